@@ -1,0 +1,12 @@
+# Warning and sanitizer flags applied to every AsynEVO target through asynevo_set_flags().
+add_library(asynevo_flags INTERFACE)
+target_compile_options(asynevo_flags INTERFACE -Wall -Wextra -Wpedantic -Wshadow=local
+                                               -Wnon-virtual-dtor -Wno-unused-parameter)
+if(ASYNEVO_WERROR)
+  target_compile_options(asynevo_flags INTERFACE -Werror)
+endif()
+if(ASYNEVO_SANITIZE)
+  target_compile_options(asynevo_flags INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer
+                                                 -fno-sanitize-recover=undefined)
+  target_link_options(asynevo_flags INTERFACE -fsanitize=address,undefined)
+endif()

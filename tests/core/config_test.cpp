@@ -1,0 +1,95 @@
+#include "asynevo/core/config/config.hpp"
+
+#include <gtest/gtest.h>
+
+#include "asynevo/core/error.hpp"
+
+namespace asynevo {
+namespace {
+
+TEST(Config, DefaultsAreValid) {
+  const Config config;
+  EXPECT_NO_THROW(config.validate());
+  EXPECT_EQ(config.sensor.width, 240);
+  EXPECT_EQ(config.sensor.height, 180);
+}
+
+TEST(Config, YamlOverridesOnlyWhatItNames) {
+  Config config;
+  applyConfigYaml("sensor:\n  width: 346\n  height: 260\n", "test.yaml", config);
+  EXPECT_EQ(config.sensor.width, 346);
+  EXPECT_EQ(config.sensor.height, 260);
+  EXPECT_EQ(config.input.packet_size, Config().input.packet_size);
+}
+
+TEST(Config, EmptyYamlChangesNothing) {
+  Config config;
+  applyConfigYaml("", "empty.yaml", config);
+  EXPECT_EQ(configToYaml(config), configToYaml(Config()));
+}
+
+TEST(Config, PrintedYamlReadsBackToTheSameConfig) {
+  Config config;
+  config.sensor.width = 346;
+  config.input.max_time_reversal_us = 0.1;
+  Config reread;
+  applyConfigYaml(configToYaml(config), "printed", reread);
+  EXPECT_EQ(configToYaml(reread), configToYaml(config));
+  EXPECT_EQ(reread.input.max_time_reversal_us, 0.1);
+  EXPECT_EQ(configDigest(reread), configDigest(config));
+  EXPECT_NE(configDigest(config), configDigest(Config()));
+}
+
+TEST(Config, PrintedYamlDocumentsEveryValue) {
+  const std::string yaml = configToYaml(Config());
+  EXPECT_NE(yaml.find("width: 240"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("# sensor columns"), std::string::npos) << yaml;
+}
+
+void expectInputError(const std::string& yaml, const std::string& expected_what) {
+  Config config;
+  try {
+    applyConfigYaml(yaml, "my.yaml", config);
+    FAIL() << "no error for:\n" << yaml;
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), expected_what);
+  }
+}
+
+TEST(Config, UnknownKeyIsAnErrorWithItsLine) {
+  expectInputError("sensor:\n  width: 240\n  hieght: 180\n",
+                   "my.yaml:3: unknown configuration key 'sensor.hieght' (known here: height, width)");
+  expectInputError("sensr:\n  width: 240\n",
+                   "my.yaml:1: unknown configuration key 'sensr' (known here: input, sensor)");
+}
+
+TEST(Config, WrongTypeIsAnErrorWithItsLine) {
+  expectInputError("sensor:\n  width: wide\n", "my.yaml:2: 'sensor.width' must be an integer");
+  expectInputError("input:\n  max_time_reversal_us: .nan\n",
+                   "my.yaml:2: 'input.max_time_reversal_us' must be a finite number");
+  expectInputError("sensor: 3\n", "my.yaml:1: 'sensor' must be a mapping of keys");
+}
+
+TEST(Config, MalformedYamlNamesTheLine) {
+  Config config;
+  try {
+    applyConfigYaml("sensor:\n  width: [1, 2\n", "bad.yaml", config);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "bad.yaml");
+    EXPECT_NE(std::string(e.what()).find("malformed YAML"), std::string::npos);
+  }
+}
+
+TEST(Config, OutOfRangeIsAConfigError) {
+  Config config;
+  EXPECT_THROW(applyConfigYaml("sensor:\n  width: 0\n", "x.yaml", config), ConfigError);
+  EXPECT_THROW(applyConfigYaml("input:\n  packet_size: -5\n", "x.yaml", config), ConfigError);
+}
+
+TEST(Config, MissingFileIsAnInputError) {
+  EXPECT_THROW(loadConfig("/nonexistent/asynevo.yaml"), InputError);
+}
+
+}  // namespace
+}  // namespace asynevo
