@@ -30,3 +30,11 @@ function(asynevo_test)
                                                ASYNEVO_BINARY_DIR="${PROJECT_BINARY_DIR}")
   gtest_discover_tests(${target} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} DISCOVERY_TIMEOUT 60)
 endfunction()
+
+# asynevo_bench(NAME name SOURCES ... DEPS ...): a Google Benchmark executable bench_<name>.
+function(asynevo_bench)
+  cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS" ${ARGN})
+  add_executable(bench_${ARG_NAME} ${ARG_SOURCES})
+  target_link_libraries(bench_${ARG_NAME} PRIVATE ${ARG_DEPS} benchmark::benchmark asynevo_flags)
+  target_compile_definitions(bench_${ARG_NAME} PRIVATE ASYNEVO_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+endfunction()
