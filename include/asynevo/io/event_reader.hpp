@@ -1,0 +1,55 @@
+#pragma once
+// Streaming access to event files. A reader hands out time-ordered packets of bounded size, so a
+// multi-gigabyte recording is processed in constant memory. Every event is checked (finite time,
+// pixel inside the sensor, valid polarity, time not going backwards beyond a tolerance); a violation
+// throws InputError naming the file and the line (text) or record (binary).
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "asynevo/core/event.hpp"
+
+namespace asynevo {
+
+struct ReaderOptions {
+  std::string format = "auto";        ///< "auto", "ecd", "mvsec", "aevt"
+  int width = 0;                      ///< sensor columns; 0 = the format's own or default (ECD: 240)
+  int height = 0;                     ///< sensor rows; 0 = the format's own or default (ECD: 180)
+  int packet_size = 65536;            ///< events per packet
+  int64_t max_time_reversal_ns = 0;   ///< backward steps up to this are clamped to the previous time
+};
+
+/// What a reader knows about its stream without reading it all.
+struct StreamInfo {
+  std::string path;     ///< the event file
+  std::string format;   ///< "ecd", "mvsec", "aevt"
+  int width = 0;
+  int height = 0;
+};
+
+/// Counters a reader keeps while streaming.
+struct ReaderStats {
+  uint64_t events = 0;           ///< events delivered so far
+  uint64_t clamped_times = 0;    ///< events whose time went back within the tolerance (clamped)
+  uint64_t skipped_lines = 0;    ///< blank or comment ('#') lines in text formats
+};
+
+class EventReader {
+ public:
+  virtual ~EventReader() = default;
+  /// Replaces `packet`'s events with the next ones (at most packet_size). Returns false, with an
+  /// empty packet, at the end of the stream. Throws InputError on bad data.
+  virtual bool read(EventPacket& packet) = 0;
+  virtual const StreamInfo& info() const = 0;
+  virtual const ReaderStats& stats() const = 0;
+};
+
+/// Opens an event file. With format "auto" the format is detected from the file's content.
+/// Throws InputError when the file is missing, unreadable, empty or of an unknown format.
+std::unique_ptr<EventReader> openEventReader(const std::string& path, const ReaderOptions& options = {});
+
+/// Reads a whole (small) file into memory; for tests and tools. Large files should be streamed.
+std::vector<Event> readAllEvents(const std::string& path, const ReaderOptions& options = {});
+
+}  // namespace asynevo

@@ -1,0 +1,61 @@
+#pragma once
+// The checks every event reader applies to every event, whatever the format: pixel inside the sensor,
+// polarity in {-1, 0, 1}, time not going backwards beyond the tolerance (small steps back are clamped
+// and counted). Formats differ only in how they name the place of an error (line or record).
+
+#include <cstdint>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "asynevo/core/event.hpp"
+
+namespace asynevo::io_detail {
+
+class EventChecker {
+ public:
+  EventChecker(int width, int height, int64_t max_time_reversal_ns)
+      : width_(width), height_(height), tolerance_ns_(max_time_reversal_ns) {}
+
+  /// Fills `out` from the raw fields and returns true, or returns false with `error` set.
+  /// Polarity 0 is read as OFF (-1).
+  bool accept(int64_t t_ns, int64_t x, int64_t y, int64_t polarity, Event& out, std::string& error) {
+    if (x < 0 || x >= width_ || y < 0 || y >= height_) {
+      error = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
+              std::to_string(width_) + "x" + std::to_string(height_) + " sensor";
+      return false;
+    }
+    if (polarity < -1 || polarity > 1) {
+      error = "polarity " + std::to_string(polarity) + " is not one of 0, 1, -1";
+      return false;
+    }
+    if (t_ns < last_t_ns_) {
+      if (last_t_ns_ - t_ns > tolerance_ns_) {
+        error = fmt::format(
+            "time goes backwards by {} ns (tolerance input.max_time_reversal_us = {:g}); the events must be "
+            "sorted by time",
+            last_t_ns_ - t_ns, static_cast<double>(tolerance_ns_) / 1000.0);
+        return false;
+      }
+      t_ns = last_t_ns_;
+      ++clamped_;
+    }
+    last_t_ns_ = t_ns;
+    out.t_ns = t_ns;
+    out.x = static_cast<uint16_t>(x);
+    out.y = static_cast<uint16_t>(y);
+    out.polarity = static_cast<int8_t>(polarity == 1 ? 1 : -1);
+    return true;
+  }
+
+  uint64_t clamped() const { return clamped_; }
+
+ private:
+  int width_;
+  int height_;
+  int64_t tolerance_ns_;
+  int64_t last_t_ns_ = INT64_MIN;
+  uint64_t clamped_ = 0;
+};
+
+}  // namespace asynevo::io_detail

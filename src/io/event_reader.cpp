@@ -1,0 +1,52 @@
+// Format detection and the reader factory.
+#include "asynevo/io/event_reader.hpp"
+
+#include <cerrno>
+#include <cstring>
+
+#include "asynevo/core/error.hpp"
+#include "asynevo/io/event_file.hpp"
+#include "asynevo/io/file_handle.hpp"
+#include "ecd_text_reader.hpp"
+#include "event_file_reader.hpp"
+#include "mvsec_reader.hpp"
+
+namespace asynevo {
+
+namespace {
+
+constexpr unsigned char kHdf5Signature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+
+std::string detectFormat(const std::string& path) {
+  FileHandle file = openFile(path, "rb");
+  if (!file) throw InputError(path, std::string("cannot open event file: ") + std::strerror(errno));
+  unsigned char head[4096];
+  const std::size_t n = std::fread(head, 1, sizeof(head), file.get());
+  if (n == 0) throw InputError(path, "the event file is empty");
+  if (n >= 8 && std::memcmp(head, kHdf5Signature, 8) == 0) return "mvsec";
+  if (n >= 8 && std::memcmp(head, kEventFileMagic, 8) == 0) return "aevt";
+  if (std::memchr(head, '\0', n) != nullptr)
+    throw InputError(path, "unknown binary format (supported: ECD text, MVSEC HDF5, AsynEVO .aevt)");
+  return "ecd";
+}
+
+}  // namespace
+
+std::unique_ptr<EventReader> openEventReader(const std::string& path, const ReaderOptions& options) {
+  if (options.packet_size <= 0) throw ConfigError("packet size must be positive");
+  const std::string format = options.format == "auto" ? detectFormat(path) : options.format;
+  if (format == "ecd") return std::make_unique<io_detail::EcdTextReader>(path, options);
+  if (format == "mvsec") return std::make_unique<io_detail::MvsecReader>(path, options);
+  if (format == "aevt") return std::make_unique<io_detail::EventFileReader>(path, options);
+  throw InputError(path, "unknown event format '" + format + "' (supported: auto, ecd, mvsec, aevt)");
+}
+
+std::vector<Event> readAllEvents(const std::string& path, const ReaderOptions& options) {
+  auto reader = openEventReader(path, options);
+  std::vector<Event> all;
+  EventPacket packet;
+  while (reader->read(packet)) all.insert(all.end(), packet.events.begin(), packet.events.end());
+  return all;
+}
+
+}  // namespace asynevo
