@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "asynevo/core/config/frontend_config.hpp"
 #include "asynevo/core/config/io_config.hpp"
 
 namespace asynevo {
@@ -12,11 +13,13 @@ namespace asynevo {
 struct Config {
   SensorConfig sensor;
   InputConfig input;
+  FrontendConfig frontend;
 
   template <class V>
   void visit(V& v) {
     v.section("sensor", sensor);
     v.section("input", input);
+    v.section("frontend", frontend);
   }
   /// Throws ConfigError naming the first out-of-range value.
   void validate() const;

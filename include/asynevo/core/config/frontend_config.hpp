@@ -1,0 +1,78 @@
+#pragma once
+// Configuration of the event-driven frontend (DESIGN.md §4 Frontend, docs/frontend.md): refractory
+// filter and SAE, corner detector (FA-Harris or Arc*), HASTE tracker, feature management.
+// Defaults marked "(ref)" are the values of the reference implementations (Arc*: Alzugaray & Chli,
+// RA-L 2018; FA-Harris: Li et al., IROS 2019; HASTE: Alzugaray & Chli, BMVC 2020), see
+// shared/reference/frontend.md §5.2 and §6.6.
+
+#include <cstdint>
+#include <string>
+
+namespace asynevo {
+
+struct FrontendConfig {
+  // --- refractory filter and SAE -------------------------------------------------------------
+  double refractory_period_ms = 50.0;  ///< (ref) same-polarity refractory filter dt_f
+
+  // --- corner detector --------------------------------------------------------------------------
+  std::string detector = "fa_harris";  ///< "fa_harris" or "arc_star"
+  double harris_threshold = 8.0;       ///< (ref) FA-Harris score threshold
+  double harris_k = 0.04;              ///< (ref) Harris k
+  int harris_latest = 25;              ///< (ref) newest SAE pixels in the 9x9 window forming the patch
+
+  // --- tracker ----------------------------------------------------------------------------------
+  std::string tracker = "haste_difference_star";  ///< or "haste_correlation_star"
+  double haste_hysteresis = 0.05;                 ///< (ref) hysteresis factor of the state switch
+  double haste_template_update = 0.1;             ///< (ref) template update factor alpha (0 = frozen)
+
+  // --- feature management -----------------------------------------------------------------------
+  int max_features = 60;               ///< active features at most (seeding stops at this number)
+  double min_distance_px = 15.0;       ///< patch search: no new feature within this of an active one
+  double border_margin_px = 16.0;      ///< features are removed (and never seeded) this close to the border
+  double collision_radius_px = 1.5;    ///< two features closer than this: the younger one is dropped
+  double min_dt_ms = 5.0;              ///< minimum event time between two recorded measurements of a feature
+  double max_idle_ms = 100.0;          ///< a feature without state change for this long is dropped
+  double init_timeout_ms = 100.0;      ///< a tracker not initialized after this long is dropped
+  double housekeeping_ms = 1.0;        ///< period (event time) of the idle/time-out/quality checks
+  double min_anisotropy = 0.06;        ///< quality: min eigenvalue ratio of the window events' spread
+  double max_time_reversal_us = 0.0;   ///< events earlier than their predecessor by more are dropped
+
+  template <class V>
+  void visit(V& v) {
+    v("refractory_period_ms", refractory_period_ms,
+      "refractory filter: an event is ignored by the detector when its pixel fired with the same "
+      "polarity less than this ago and did not flip polarity since (Arc*/FA-Harris: 50 ms)");
+    v("detector", detector, "corner detector: fa_harris (Arc* candidate + Harris refinement) or arc_star");
+    v("harris_threshold", harris_threshold,
+      "FA-Harris: a candidate is a corner when the Harris score of its binary 9x9 patch exceeds this");
+    v("harris_k", harris_k, "FA-Harris: k of the Harris score A*C - B^2 - k*(A+C)^2");
+    v("harris_latest", harris_latest,
+      "FA-Harris: the binary patch holds this many newest pixels of the 9x9 window (reference: 25)");
+    v("tracker", tracker, "feature tracker: haste_difference_star or haste_correlation_star");
+    v("haste_hysteresis", haste_hysteresis,
+      "HASTE: switch to the best hypothesis when (best - null) / (best - worst) exceeds this");
+    v("haste_template_update", haste_template_update,
+      "HASTE: weight (times 1/N) of the middle window event added to the template per event; 0 freezes it");
+    v("max_features", max_features, "most features tracked at once; seeding stops at this number");
+    v("min_distance_px", min_distance_px,
+      "a corner seeds a feature only when no active feature is within this distance (patch search)");
+    v("border_margin_px", border_margin_px,
+      "features closer than this to the image border are removed and never seeded there");
+    v("collision_radius_px", collision_radius_px,
+      "two features closer than this are duplicates: the younger one is dropped");
+    v("min_dt_ms", min_dt_ms, "minimum event time between two recorded measurements of one feature");
+    v("max_idle_ms", max_idle_ms, "a feature whose state has not changed for this long is dropped");
+    v("init_timeout_ms", init_timeout_ms,
+      "a tracker that has not gathered its first event window after this long is dropped");
+    v("housekeeping_ms", housekeeping_ms, "event-time period of the idle, time-out and quality checks");
+    v("min_anisotropy", min_anisotropy,
+      "quality test: a feature is dropped when its window events spread along a line (ratio of the "
+      "smaller to the larger eigenvalue of their covariance below this): an edge, which HASTE drifts along");
+    v("max_time_reversal_us", max_time_reversal_us,
+      "events earlier than the newest seen by more than this are dropped and counted; smaller steps "
+      "back are processed at the newest time");
+  }
+  void validate() const;
+};
+
+}  // namespace asynevo
