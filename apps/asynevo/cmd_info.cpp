@@ -1,10 +1,79 @@
+// 'asynevo info --dataset PATH': what a dataset holds, from one streaming pass over its events.
+#include <fmt/format.h>
+
+#include <string>
+
+#include "asynevo/core/config/config.hpp"
+#include "asynevo/core/error.hpp"
+#include "asynevo/core/time.hpp"
+#include "asynevo/io/dataset.hpp"
+#include "asynevo/io/event_reader.hpp"
+#include "asynevo/io/event_statistics.hpp"
 #include "commands.hpp"
+#include "progress.hpp"
 
 namespace asynevo::cli {
-void addInfoCommand(CLI::App& app) {
-  auto* cmd = app.add_subcommand("info", "Describe a dataset");
-  static std::string dataset;
-  cmd->add_option("--dataset", dataset, "ECD-style folder or event file")->required();
-  cmd->callback([] { throw NotImplemented("info"); });
+
+namespace {
+
+struct InfoOptions {
+  std::string dataset;
+  std::string format = "auto";
+  std::string config;
+};
+
+void runInfo(const InfoOptions& options) {
+  const Config config = options.config.empty() ? Config() : loadConfig(options.config);
+  const DatasetFiles files = resolveDataset(options.dataset);
+  ReaderOptions reader_options;
+  reader_options.format = options.format;
+  reader_options.packet_size = config.input.packet_size;
+  reader_options.max_time_reversal_ns = std::llround(config.input.max_time_reversal_us * 1e3);
+  if (!options.config.empty()) {  // a config names the sensor explicitly; otherwise the format's default
+    reader_options.width = config.sensor.width;
+    reader_options.height = config.sensor.height;
+  }
+  auto reader = openEventReader(files.events, reader_options);
+  Progress progress;
+  int64_t first_t_ns = 0;
+  const EventStatistics stats = computeEventStatistics(*reader, 10'000'000, [&](uint64_t n, int64_t t_ns) {
+    if (first_t_ns == 0 && n > 0) first_t_ns = t_ns;
+    progress.update(n, t_ns, first_t_ns);
+  });
+  progress.finish();
+  if (stats.events == 0) throw InputError(files.events, "the file holds no events");
+
+  const auto& info = reader->info();
+  char first[32], last[32];
+  formatNsAsSeconds(stats.first_t_ns, first);
+  formatNsAsSeconds(stats.last_t_ns, last);
+  fmt::print("dataset       {}\n", files.root);
+  fmt::print("events file   {}\n", info.path);
+  fmt::print("format        {}\n", info.format);
+  fmt::print("sensor        {} x {}\n", info.width, info.height);
+  fmt::print("events        {}\n", stats.events);
+  fmt::print("time span     {} .. {} s ({:.6f} s)\n", first, last, stats.durationSeconds());
+  fmt::print("event rate    mean {:.3f} M events/s; over {} ms windows: median {:.3f}, max {:.3f} M events/s (at {:.3f} s)\n",
+             stats.mean_rate * 1e-6, stats.window_ns / 1'000'000, stats.median_window_rate * 1e-6,
+             stats.max_window_rate * 1e-6, nsToSeconds(stats.max_window_start_ns));
+  fmt::print("polarity      {:.1f} % ON, {:.1f} % OFF\n", 100.0 * stats.onFraction(), 100.0 * (1.0 - stats.onFraction()));
+  fmt::print("pixels        {} of {} fired ({:.1f} %), busiest pixel {} events\n", stats.active_pixels,
+             info.width * info.height, 100.0 * static_cast<double>(stats.active_pixels) / (info.width * info.height),
+             stats.max_pixel_events);
+  if (stats.clamped_times > 0) fmt::print("clamped       {} events whose time went slightly backwards\n", stats.clamped_times);
+  fmt::print("calibration   {}\n", files.calibration ? *files.calibration : "none found (pass --calib to run)");
+  fmt::print("ground truth  {}\n", files.groundtruth ? *files.groundtruth : "none");
 }
+
+}  // namespace
+
+void addInfoCommand(CLI::App& app) {
+  static InfoOptions options;  // CLI11 binds options to stable addresses; one parse per process
+  auto* cmd = app.add_subcommand("info", "Describe a dataset: format, sensor, event count, time span, rates");
+  cmd->add_option("--dataset", options.dataset, "ECD-style folder or event file")->required();
+  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt)");
+  cmd->add_option("--config", options.config, "configuration YAML (sensor size, time tolerance)");
+  cmd->callback([] { runInfo(options); });
+}
+
 }  // namespace asynevo::cli

@@ -1,0 +1,30 @@
+#pragma once
+// Runs the asynevo binary as a user would and captures what it prints and its exit code.
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <string>
+
+namespace asynevo::testing {
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;  ///< stdout and stderr, interleaved
+};
+
+inline CommandResult runAsynevo(const std::string& arguments) {
+  const std::string command = std::string(ASYNEVO_BINARY_DIR) + "/bin/asynevo " + arguments + " 2>&1";
+  CommandResult result;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return result;
+  std::array<char, 4096> buffer{};
+  std::size_t n = 0;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+}  // namespace asynevo::testing
