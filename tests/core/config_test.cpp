@@ -59,8 +59,16 @@ void expectInputError(const std::string& yaml, const std::string& expected_what)
 TEST(Config, UnknownKeyIsAnErrorWithItsLine) {
   expectInputError("sensor:\n  width: 240\n  hieght: 180\n",
                    "my.yaml:3: unknown configuration key 'sensor.hieght' (known here: height, width)");
-  expectInputError("sensr:\n  width: 240\n",
-                   "my.yaml:1: unknown configuration key 'sensr' (known here: input, sensor)");
+  Config config;
+  try {
+    applyConfigYaml("sensr:\n  width: 240\n", "my.yaml", config);
+    FAIL();
+  } catch (const InputError& e) {  // the list of sections grows with the modules; check its start and members
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("my.yaml:1: unknown configuration key 'sensr' (known here: ", 0), 0u) << what;
+    EXPECT_NE(what.find("sensor"), std::string::npos) << what;
+    EXPECT_NE(what.find("input"), std::string::npos) << what;
+  }
 }
 
 TEST(Config, WrongTypeIsAnErrorWithItsLine) {
