@@ -1,0 +1,189 @@
+#pragma once
+// HASTE event-by-event patch trackers (Alzugaray & Chli, "HASTE: multi-Hypothesis Asynchronous
+// Speeded-up Tracking of Events", BMVC 2020), our own implementation of the two incremental
+// ("star") variants described in shared/reference/frontend.md §6:
+//   HasteDifference*  score_h = -sum_pixels (That - M_h)^2       (default)
+//   HasteCorrelation* score_h = (1/N) sum_i S(That, h, e_i)
+// with That the template normalised to unit sum (frozen between state switches), M_h the bilinear
+// splat of the N window events under hypothesis h (weight 1/N each) and S a bilinear sample.
+//
+// A tracker's state is (t, x, y, theta) in the image coordinates it is fed with. The 31x31 patch
+// (radius 15) is centred on the state; an event is used iff it lies strictly inside the circle of
+// radius 15. The window holds the N = 193 newest in-range events (ring buffer). 11 hypotheses:
+// identity, +-1 px in x and y, the 4 diagonals, +-4 degrees. After every in-range event the best
+// hypothesis replaces the state when (best - null) / (best - worst) > hysteresis; the state time is
+// the time of the window's middle event. The template grows by alpha/N times the splat of the middle
+// event under the current state on every in-range event after initialization.
+//
+// Everything is allocated at construction; push() never allocates. reset() reuses a tracker.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace asynevo::frontend {
+
+enum class TrackerResult : uint8_t {
+  kOutOfRange,    ///< the event is outside the tracker's circle: ignored
+  kInitializing,  ///< the event was added to the (not yet full) first window
+  kRegular,       ///< used, no state change
+  kStateChanged,  ///< initialization completed or the state switched to another hypothesis
+};
+
+enum class HasteVariant : uint8_t { kDifferenceStar, kCorrelationStar };
+
+struct HasteParams {
+  HasteVariant variant = HasteVariant::kDifferenceStar;
+  double hysteresis = 0.05;       ///< (ref) switch threshold on the normalised score gain
+  double template_update = 0.1;   ///< (ref) alpha; 0 freezes the template after initialization
+};
+
+struct TrackerState {
+  int64_t t_ns = 0;
+  float x = 0.f;
+  float y = 0.f;
+  float theta = 0.f;  ///< radians, wrapped to (-pi, pi]
+};
+
+/// One pose hypothesis around the current state.
+struct Hypothesis {
+  float x = 0.f, y = 0.f, theta = 0.f;
+  float c = 1.f, s = 0.f;  ///< cos and sin of theta
+};
+
+class HasteTracker {
+ public:
+  static constexpr int kPatchSize = 31;
+  static constexpr int kRadius = 15;
+  static constexpr int kPatchCells = kPatchSize * kPatchSize;
+  static constexpr int kWindow = 193;  ///< 1 + 2 floor(0.2 * 31 * 31 / 2) (reference texture factor 0.2)
+  static constexpr int kMiddle = kWindow / 2;
+  static constexpr int kHypotheses = 11;
+  static constexpr float kRotationStep = 4.0f * 3.14159265358979f / 180.0f;
+
+  using Patch = std::array<float, kPatchCells>;  ///< [yp * 31 + xp]
+
+  struct WindowEvent {
+    int64_t t_ns;
+    float x, y;
+  };
+
+  explicit HasteTracker(const HasteParams& params);
+  virtual ~HasteTracker() = default;
+  HasteTracker(const HasteTracker&) = delete;
+  HasteTracker& operator=(const HasteTracker&) = delete;
+
+  /// Restarts the tracker at a seed pose; nothing allocated.
+  void reset(int64_t t_ns, float x, float y, float theta = 0.f);
+
+  /// Feeds one event (image coordinates of the tracker's frame).
+  TrackerResult push(int64_t t_ns, float x, float y) {
+    const float dx = x - state_.x, dy = y - state_.y;
+    if (!(dx * dx + dy * dy < float(kRadius * kRadius))) return TrackerResult::kOutOfRange;
+    return pushInRange(t_ns, x, y);
+  }
+  bool inRange(float x, float y) const {
+    const float dx = x - state_.x, dy = y - state_.y;
+    return dx * dx + dy * dy < float(kRadius * kRadius);
+  }
+
+  const TrackerState& state() const { return state_; }
+  bool initialized() const { return initialized_; }
+  /// False once the template has no mass (cannot normalise): the tracker must be dropped.
+  bool healthy() const { return healthy_; }
+  const HasteParams& params() const { return params_; }
+
+  // ---- introspection for quality tests and unit tests ----------------------------------------
+  const std::array<Hypothesis, kHypotheses>& hypotheses() const { return hyps_; }
+  const std::array<double, kHypotheses>& scores() const { return scores_; }
+  /// The evolving template (not normalised).
+  const Patch& templatePatch() const { return template_; }
+  /// The normalised template the scores currently use (frozen at the last switch).
+  const Patch& normalizedTemplate() const { return normalized_; }
+  /// The window events, oldest first (fewer than kWindow while initializing).
+  int windowSize() const { return count_; }
+  const WindowEvent& windowEvent(int i) const { return window_[(head_ + i) % kWindow]; }
+  /// Ratio of the smaller to the larger eigenvalue of the covariance of the window events' positions
+  /// (1 = isotropic spread, ~0 = events on a line: an edge, where the tracker can slide).
+  float windowAnisotropy() const;
+  /// In-range events since the last state change, and state changes since reset.
+  uint32_t eventsSinceChange() const { return events_since_change_; }
+  uint32_t stateChanges() const { return state_changes_; }
+
+  /// Patch coordinates of an image point under a hypothesis (reference §6.1).
+  static void toPatch(const Hypothesis& h, float ex, float ey, float& xp, float& yp) {
+    const float dx = ex - h.x, dy = ey - h.y;
+    xp = dx * h.c + dy * h.s + float(kRadius);
+    yp = -dx * h.s + dy * h.c + float(kRadius);
+  }
+  /// Bilinear stencil: base cell index and the 4 weights; false outside [0, 30) x [0, 30).
+  static bool stencil(float xp, float yp, int& base, float w[4]);
+  static void splat(Patch& p, float xp, float yp, float weight);
+  static float sample(const Patch& p, float xp, float yp);
+
+ protected:
+  /// Recomputes every score from the current window and normalized template.
+  virtual void rebuildScores() = 0;
+  /// Incremental score update: `added` entered the window and `evicted` left it.
+  virtual void updateScores(const WindowEvent& added, const WindowEvent& evicted) = 0;
+
+  std::array<Hypothesis, kHypotheses> hyps_{};
+  std::array<double, kHypotheses> scores_{};
+  Patch normalized_{};
+  std::vector<WindowEvent> window_;  ///< ring buffer of kWindow events, allocated once
+  int head_ = 0;                     ///< index of the oldest event
+  int count_ = 0;
+
+ private:
+  TrackerResult pushInRange(int64_t t_ns, float x, float y);
+  void generateHypotheses();
+  void initializeTemplate();
+  bool normalizeTemplate();
+  void addMoments(const WindowEvent& e, double sign);
+
+  HasteParams params_;
+  TrackerState state_;
+  bool initialized_ = false;
+  bool healthy_ = true;
+  Patch template_{};
+  uint32_t events_since_change_ = 0;
+  uint32_t state_changes_ = 0;
+  double moment_[5] = {0, 0, 0, 0, 0};  ///< sums of x, y, xx, xy, yy over the window (relative to origin_)
+  float origin_x_ = 0.f, origin_y_ = 0.f;
+};
+
+/// HasteDifference*: keeps the 11 difference patches D_h = That - M_h and updates the squared
+/// norms of the 2x2 blocks an added or evicted event touches.
+class HasteDifferenceStar final : public HasteTracker {
+ public:
+  explicit HasteDifferenceStar(const HasteParams& params);
+  /// Difference patch of hypothesis h (for tests).
+  const Patch& difference(int h) const { return diff_[h]; }
+
+ protected:
+  void rebuildScores() override;
+  void updateScores(const WindowEvent& added, const WindowEvent& evicted) override;
+
+ private:
+  std::vector<Patch> diff_;  ///< kHypotheses patches, allocated once
+};
+
+/// HasteCorrelation*: mean bilinear sample of the frozen normalized template at the window events.
+class HasteCorrelationStar final : public HasteTracker {
+ public:
+  explicit HasteCorrelationStar(const HasteParams& params);
+
+ protected:
+  void rebuildScores() override;
+  void updateScores(const WindowEvent& added, const WindowEvent& evicted) override;
+};
+
+/// Builds the tracker of a variant.
+std::unique_ptr<HasteTracker> makeHasteTracker(const HasteParams& params);
+
+/// Scores of every hypothesis computed from scratch (no incremental state) from a tracker's
+/// window, hypotheses and normalized template: the definition the star variants must agree with.
+std::array<double, HasteTracker::kHypotheses> hasteScoresFromScratch(const HasteTracker& tracker);
+
+}  // namespace asynevo::frontend

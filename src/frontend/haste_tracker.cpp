@@ -1,0 +1,310 @@
+// HASTE trackers (Alzugaray & Chli, BMVC 2020): algorithm as restated in
+// shared/reference/frontend.md §6; our own implementation (ring buffer, explicit NaN guards,
+// wrapped theta, no allocation after construction).
+#include "asynevo/frontend/haste_tracker.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+namespace asynevo::frontend {
+
+namespace {
+
+constexpr float kPi = 3.14159265358979323846f;
+constexpr float kInvWindow = 1.0f / HasteTracker::kWindow;
+constexpr int kStencilOffset[4] = {0, 1, HasteTracker::kPatchSize, HasteTracker::kPatchSize + 1};
+
+float wrapAngle(float a) {
+  // (-pi, pi]
+  while (a > kPi) a -= 2 * kPi;
+  while (a <= -kPi) a += 2 * kPi;
+  return a;
+}
+
+}  // namespace
+
+HasteTracker::HasteTracker(const HasteParams& params) : window_(kWindow), params_(params) {}
+
+void HasteTracker::reset(int64_t t_ns, float x, float y, float theta) {
+  state_ = TrackerState{t_ns, x, y, wrapAngle(theta)};
+  initialized_ = false;
+  healthy_ = true;
+  head_ = 0;
+  count_ = 0;
+  events_since_change_ = 0;
+  state_changes_ = 0;
+  std::fill(std::begin(moment_), std::end(moment_), 0.0);
+  origin_x_ = x;
+  origin_y_ = y;
+  generateHypotheses();
+  scores_.fill(0.0);
+}
+
+bool HasteTracker::stencil(float xp, float yp, int& base, float w[4]) {
+  // Valid for 0 <= xp < 30 and 0 <= yp < 30 (the 2x2 stencil needs the +1 neighbour).
+  if (!(xp >= 0.f && yp >= 0.f && xp < float(kPatchSize - 1) && yp < float(kPatchSize - 1))) return false;
+  const int x0 = static_cast<int>(xp), y0 = static_cast<int>(yp);
+  const float fx = xp - float(x0), fy = yp - float(y0);
+  base = y0 * kPatchSize + x0;
+  w[0] = (1.f - fx) * (1.f - fy);
+  w[1] = fx * (1.f - fy);
+  w[2] = (1.f - fx) * fy;
+  w[3] = fx * fy;
+  return true;
+}
+
+void HasteTracker::splat(Patch& p, float xp, float yp, float weight) {
+  int base;
+  float w[4];
+  if (!stencil(xp, yp, base, w)) return;
+  for (int k = 0; k < 4; ++k) p[base + kStencilOffset[k]] += weight * w[k];
+}
+
+float HasteTracker::sample(const Patch& p, float xp, float yp) {
+  int base;
+  float w[4];
+  if (!stencil(xp, yp, base, w)) return 0.f;
+  float v = 0.f;
+  for (int k = 0; k < 4; ++k) v += w[k] * p[base + kStencilOffset[k]];
+  return v;
+}
+
+void HasteTracker::generateHypotheses() {
+  static constexpr float kOffsets[kHypotheses][3] = {
+      {0, 0, 0},  {1, 0, 0},  {-1, 0, 0},  {0, 1, 0},  {0, -1, 0}, {1, 1, 0},
+      {1, -1, 0}, {-1, 1, 0}, {-1, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+  for (int h = 0; h < kHypotheses; ++h) {
+    Hypothesis& hy = hyps_[h];
+    hy.x = state_.x + kOffsets[h][0];
+    hy.y = state_.y + kOffsets[h][1];
+    hy.theta = wrapAngle(state_.theta + kOffsets[h][2] * kRotationStep);
+    hy.c = std::cos(hy.theta);
+    hy.s = std::sin(hy.theta);
+  }
+}
+
+void HasteTracker::initializeTemplate() {
+  template_.fill(0.f);
+  for (int i = 0; i < count_; ++i) {
+    const WindowEvent& e = windowEvent(i);
+    float xp, yp;
+    toPatch(hyps_[0], e.x, e.y, xp, yp);
+    splat(template_, xp, yp, kInvWindow);
+  }
+}
+
+bool HasteTracker::normalizeTemplate() {
+  double sum = 0;
+  for (float v : template_) sum += v;
+  if (!(sum > 1e-12) || !std::isfinite(sum)) return false;
+  const float inv = static_cast<float>(1.0 / sum);
+  for (int i = 0; i < kPatchCells; ++i) normalized_[i] = template_[i] * inv;
+  return true;
+}
+
+void HasteTracker::addMoments(const WindowEvent& e, double sign) {
+  const double x = e.x - origin_x_, y = e.y - origin_y_;
+  moment_[0] += sign * x;
+  moment_[1] += sign * y;
+  moment_[2] += sign * x * x;
+  moment_[3] += sign * x * y;
+  moment_[4] += sign * y * y;
+}
+
+float HasteTracker::windowAnisotropy() const {
+  if (count_ < 2) return 0.f;
+  const double n = count_;
+  const double mx = moment_[0] / n, my = moment_[1] / n;
+  const double a = moment_[2] / n - mx * mx, b = moment_[3] / n - mx * my, c = moment_[4] / n - my * my;
+  const double half_trace = 0.5 * (a + c);
+  const double root = std::sqrt(std::max(0.0, 0.25 * (a - c) * (a - c) + b * b));
+  const double large = half_trace + root, small = half_trace - root;
+  if (!(large > 1e-12)) return 0.f;
+  return static_cast<float>(std::max(0.0, small) / large);
+}
+
+TrackerResult HasteTracker::pushInRange(int64_t t_ns, float x, float y) {
+  const WindowEvent e{t_ns, x, y};
+  if (!initialized_) {
+    assert(count_ < kWindow && head_ == 0);
+    window_[count_++] = e;
+    addMoments(e, 1.0);
+    if (count_ < kWindow) return TrackerResult::kInitializing;
+    initializeTemplate();
+    if (!normalizeTemplate()) {
+      healthy_ = false;
+      return TrackerResult::kRegular;
+    }
+    rebuildScores();
+    initialized_ = true;
+    state_.t_ns = windowEvent(kMiddle).t_ns;
+    ++state_changes_;
+    events_since_change_ = 0;
+    return TrackerResult::kStateChanged;
+  }
+  if (!healthy_) return TrackerResult::kRegular;
+
+  // Slide the window: the oldest event leaves, the new one enters.
+  const WindowEvent evicted = window_[head_];
+  window_[head_] = e;
+  head_ = head_ + 1 == kWindow ? 0 : head_ + 1;
+  addMoments(e, 1.0);
+  addMoments(evicted, -1.0);
+  updateScores(e, evicted);
+
+  // Hysteresis decision (reference §6.4) with explicit guards against NaN and all-equal scores.
+  const double null_score = scores_[0];
+  int best = 0;
+  double worst = null_score;
+  for (int h = 1; h < kHypotheses; ++h) {
+    if (scores_[h] > scores_[best]) best = h;
+    worst = std::min(worst, scores_[h]);
+  }
+  bool switched = false;
+  if (best != 0) {
+    const double gain = scores_[best] - null_score;
+    const double range = scores_[best] - worst;
+    switched = std::isfinite(gain) && std::isfinite(range) && range > 0 && gain > params_.hysteresis * range;
+  }
+  ++events_since_change_;
+  if (switched) {
+    state_.x = hyps_[best].x;
+    state_.y = hyps_[best].y;
+    state_.theta = hyps_[best].theta;
+    generateHypotheses();
+    if (!normalizeTemplate()) {
+      healthy_ = false;
+      return TrackerResult::kRegular;
+    }
+    rebuildScores();
+    ++state_changes_;
+    events_since_change_ = 0;
+  }
+  const WindowEvent& middle = windowEvent(kMiddle);
+  if (params_.template_update > 0) {
+    float xp, yp;
+    toPatch(hyps_[0], middle.x, middle.y, xp, yp);
+    splat(template_, xp, yp, static_cast<float>(params_.template_update) * kInvWindow);
+  }
+  state_.t_ns = middle.t_ns;
+  return switched ? TrackerResult::kStateChanged : TrackerResult::kRegular;
+}
+
+// ---- HasteDifference* ----------------------------------------------------------------------------
+
+HasteDifferenceStar::HasteDifferenceStar(const HasteParams& params)
+    : HasteTracker(params), diff_(kHypotheses) {}
+
+void HasteDifferenceStar::rebuildScores() {
+  for (int h = 0; h < kHypotheses; ++h) {
+    Patch& d = diff_[h];
+    d = normalized_;
+    for (int i = 0; i < count_; ++i) {
+      const WindowEvent& e = windowEvent(i);
+      float xp, yp;
+      toPatch(hyps_[h], e.x, e.y, xp, yp);
+      splat(d, xp, yp, -kInvWindow);
+    }
+    double sum = 0;
+    for (float v : d) sum += double(v) * double(v);
+    scores_[h] = -sum;
+  }
+}
+
+void HasteDifferenceStar::updateScores(const WindowEvent& added, const WindowEvent& evicted) {
+  for (int h = 0; h < kHypotheses; ++h) {
+    Patch& d = diff_[h];
+    double delta = 0;  // change of -sum(D^2), from the stored float values so it stays consistent
+    int base;
+    float w[4];
+    float xp, yp;
+    toPatch(hyps_[h], added.x, added.y, xp, yp);
+    if (stencil(xp, yp, base, w)) {
+      for (int k = 0; k < 4; ++k) {
+        float& v = d[base + kStencilOffset[k]];
+        const float before = v;
+        v = before - w[k] * kInvWindow;
+        delta += double(before) * double(before) - double(v) * double(v);
+      }
+    }
+    toPatch(hyps_[h], evicted.x, evicted.y, xp, yp);
+    if (stencil(xp, yp, base, w)) {
+      for (int k = 0; k < 4; ++k) {
+        float& v = d[base + kStencilOffset[k]];
+        const float before = v;
+        v = before + w[k] * kInvWindow;
+        delta += double(before) * double(before) - double(v) * double(v);
+      }
+    }
+    scores_[h] += delta;
+  }
+}
+
+// ---- HasteCorrelation* ---------------------------------------------------------------------------
+
+HasteCorrelationStar::HasteCorrelationStar(const HasteParams& params) : HasteTracker(params) {}
+
+void HasteCorrelationStar::rebuildScores() {
+  for (int h = 0; h < kHypotheses; ++h) {
+    double sum = 0;
+    for (int i = 0; i < count_; ++i) {
+      const WindowEvent& e = windowEvent(i);
+      float xp, yp;
+      toPatch(hyps_[h], e.x, e.y, xp, yp);
+      sum += sample(normalized_, xp, yp);
+    }
+    scores_[h] = sum * kInvWindow;
+  }
+}
+
+void HasteCorrelationStar::updateScores(const WindowEvent& added, const WindowEvent& evicted) {
+  for (int h = 0; h < kHypotheses; ++h) {
+    float xa, ya, xe, ye;
+    toPatch(hyps_[h], added.x, added.y, xa, ya);
+    toPatch(hyps_[h], evicted.x, evicted.y, xe, ye);
+    scores_[h] += (double(sample(normalized_, xa, ya)) - double(sample(normalized_, xe, ye))) * kInvWindow;
+  }
+}
+
+std::unique_ptr<HasteTracker> makeHasteTracker(const HasteParams& params) {
+  if (params.variant == HasteVariant::kCorrelationStar) return std::make_unique<HasteCorrelationStar>(params);
+  return std::make_unique<HasteDifferenceStar>(params);
+}
+
+std::array<double, HasteTracker::kHypotheses> hasteScoresFromScratch(const HasteTracker& tracker) {
+  std::array<double, HasteTracker::kHypotheses> out{};
+  const auto& that = tracker.normalizedTemplate();
+  const int n = tracker.windowSize();
+  for (int h = 0; h < HasteTracker::kHypotheses; ++h) {
+    const Hypothesis& hy = tracker.hypotheses()[h];
+    if (tracker.params().variant == HasteVariant::kDifferenceStar) {
+      // -sum (That - M_h)^2 with M_h the splat of the window at weight 1/N, in double precision.
+      std::array<double, HasteTracker::kPatchCells> model{};
+      for (int i = 0; i < n; ++i) {
+        const auto& e = tracker.windowEvent(i);
+        float xp, yp;
+        HasteTracker::toPatch(hy, e.x, e.y, xp, yp);
+        int base;
+        float w[4];
+        if (!HasteTracker::stencil(xp, yp, base, w)) continue;
+        for (int k = 0; k < 4; ++k) model[base + kStencilOffset[k]] += double(w[k]) / HasteTracker::kWindow;
+      }
+      double sum = 0;
+      for (int c = 0; c < HasteTracker::kPatchCells; ++c) sum += (that[c] - model[c]) * (that[c] - model[c]);
+      out[h] = -sum;
+    } else {
+      double sum = 0;
+      for (int i = 0; i < n; ++i) {
+        const auto& e = tracker.windowEvent(i);
+        float xp, yp;
+        HasteTracker::toPatch(hy, e.x, e.y, xp, yp);
+        sum += HasteTracker::sample(that, xp, yp);
+      }
+      out[h] = sum / HasteTracker::kWindow;
+    }
+  }
+  return out;
+}
+
+}  // namespace asynevo::frontend

@@ -1,0 +1,154 @@
+#include "asynevo/frontend/haste_tracker.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace asynevo::frontend {
+namespace {
+
+// Events of an L-shaped corner (two edges of length 20 leaving the corner along +x and +y) whose
+// corner moves at constant velocity; integer pixels like a sensor.
+struct MovingCorner {
+  float x0, y0, vx, vy;  // px and px/s
+  float length = 20.f;   // edge length, px
+  std::mt19937 rng{7};
+  float cornerX(int64_t t) const { return x0 + vx * float(t) * 1e-9f; }
+  float cornerY(int64_t t) const { return y0 + vy * float(t) * 1e-9f; }
+  void next(int64_t t, float& x, float& y) {
+    std::uniform_real_distribution<float> along(0.f, length);
+    std::normal_distribution<float> noise(0.f, 0.4f);
+    const float a = along(rng);
+    const bool horizontal = (rng() & 1u) != 0;
+    x = std::round(cornerX(t) + (horizontal ? a : 0.f) + noise(rng));
+    y = std::round(cornerY(t) + (horizontal ? 0.f : a) + noise(rng));
+  }
+};
+
+void expectIncrementalEqualsFromScratch(HasteVariant variant) {
+  HasteParams params;
+  params.variant = variant;
+  params.template_update = 0.0;  // the star approximation is exact only with a frozen template
+  auto tracker = makeHasteTracker(params);
+  MovingCorner corner{100.f, 80.f, 300.f, -150.f};
+  tracker->reset(0, 105.f, 85.f);
+  int checked = 0, switches = 0;
+  double worst = 0;
+  for (int64_t i = 0; i < 6000; ++i) {
+    const int64_t t = i * 10'000;  // 100 k events/s
+    float x, y;
+    corner.next(t, x, y);
+    const TrackerResult r = tracker->push(t, x, y);
+    if (r == TrackerResult::kStateChanged) ++switches;
+    if (!tracker->initialized() || r == TrackerResult::kOutOfRange) continue;
+    const auto scratch = hasteScoresFromScratch(*tracker);
+    for (int h = 0; h < HasteTracker::kHypotheses; ++h) {
+      const double err = std::abs(tracker->scores()[h] - scratch[h]) / std::max(1e-9, std::abs(scratch[h]));
+      worst = std::max(worst, err);
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 3000);
+  EXPECT_GT(switches, 10);  // the sequence exercises rebuilds after switches, too
+  EXPECT_LT(worst, 1e-5) << "largest relative difference " << worst;
+}
+
+TEST(Haste, DifferenceStarIncrementalScoresEqualFromScratchScores) {
+  expectIncrementalEqualsFromScratch(HasteVariant::kDifferenceStar);
+}
+
+TEST(Haste, CorrelationStarIncrementalScoresEqualFromScratchScores) {
+  expectIncrementalEqualsFromScratch(HasteVariant::kCorrelationStar);
+}
+
+TEST(Haste, InitializesAfterAFullWindowOfInRangeEvents) {
+  auto tracker = makeHasteTracker(HasteParams{});
+  tracker->reset(1000, 50.f, 50.f);
+  EXPECT_FALSE(tracker->initialized());
+  EXPECT_EQ(tracker->push(5, 50.f + 15.f, 50.f), TrackerResult::kOutOfRange);  // radius is strict
+  EXPECT_EQ(tracker->push(5, 80.f, 50.f), TrackerResult::kOutOfRange);
+  MovingCorner corner{46.f, 46.f, 0.f, 0.f, 10.f};
+  for (int i = 0; i < HasteTracker::kWindow - 1; ++i) {
+    float x, y;
+    corner.next(i, x, y);
+    ASSERT_EQ(tracker->push(2000 + i, x, y), TrackerResult::kInitializing) << i;
+  }
+  float x, y;
+  corner.next(0, x, y);
+  EXPECT_EQ(tracker->push(2000 + HasteTracker::kWindow - 1, x, y), TrackerResult::kStateChanged);
+  EXPECT_TRUE(tracker->initialized());
+  EXPECT_TRUE(tracker->healthy());
+  EXPECT_EQ(tracker->state().t_ns, 2000 + HasteTracker::kMiddle);  // the middle event's time
+  EXPECT_FLOAT_EQ(tracker->state().x, 50.f);
+  double mass = 0;
+  for (float v : tracker->normalizedTemplate()) mass += v;
+  EXPECT_NEAR(mass, 1.0, 1e-5);
+}
+
+void expectFollowsMovingCorner(HasteVariant variant) {
+  HasteParams params;
+  params.variant = variant;
+  auto tracker = makeHasteTracker(params);
+  MovingCorner corner{60.f, 70.f, 400.f, 250.f};  // 40 px in x, 25 px in y over 0.1 s
+  tracker->reset(0, 64.f, 74.f);
+  int state_changes = 0;
+  double worst_after_init = 0;
+  for (int64_t i = 0; i < 40000; ++i) {
+    const int64_t t = i * 2'500;  // 400 k events/s, 0.1 s
+    float x, y;
+    corner.next(t, x, y);
+    if (tracker->push(t, x, y) != TrackerResult::kStateChanged) continue;
+    ++state_changes;
+    // The tracked point keeps its offset (4, 4) from the corner, evaluated at the state's time.
+    const TrackerState& s = tracker->state();
+    const double ex = s.x - (corner.cornerX(s.t_ns) + 4.f), ey = s.y - (corner.cornerY(s.t_ns) + 4.f);
+    worst_after_init = std::max(worst_after_init, std::hypot(ex, ey));
+  }
+  EXPECT_GT(state_changes, 50);
+  EXPECT_LT(worst_after_init, 2.0);
+  EXPECT_LT(std::abs(tracker->state().theta), 0.2f);
+}
+
+TEST(Haste, DifferenceStarFollowsAMovingCorner) { expectFollowsMovingCorner(HasteVariant::kDifferenceStar); }
+TEST(Haste, CorrelationStarFollowsAMovingCorner) { expectFollowsMovingCorner(HasteVariant::kCorrelationStar); }
+
+TEST(Haste, StaticPatternNeverSwitchesAndThetaIsWrapped) {
+  auto tracker = makeHasteTracker(HasteParams{});
+  tracker->reset(0, 50.f, 50.f, 3.0f * 3.14159265f);
+  EXPECT_GT(tracker->state().theta, -3.1416f);
+  EXPECT_LE(tracker->state().theta, 3.1416f);
+  for (const Hypothesis& h : tracker->hypotheses()) {
+    EXPECT_GT(h.theta, -3.1416f);
+    EXPECT_LE(h.theta, 3.1416f);
+  }
+  // The same few pixels over and over: the window becomes stationary, no hypothesis is better.
+  int changes = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const float x = 50.f + float(i % 5), y = 50.f + float((i / 5) % 3);
+    if (tracker->push(i, x, y) == TrackerResult::kStateChanged) ++changes;
+  }
+  EXPECT_EQ(changes, 1);  // initialization only
+  EXPECT_FLOAT_EQ(tracker->state().x, 50.f);
+  for (double s : tracker->scores()) EXPECT_TRUE(std::isfinite(s));
+}
+
+TEST(Haste, AnisotropySeparatesEdgesFromCorners) {
+  auto edge = makeHasteTracker(HasteParams{});
+  auto corner_tracker = makeHasteTracker(HasteParams{});
+  edge->reset(0, 50.f, 50.f);
+  corner_tracker->reset(0, 50.f, 50.f);
+  MovingCorner corner{46.f, 46.f, 0.f, 0.f, 10.f};
+  std::mt19937 rng(3);
+  for (int i = 0; i < HasteTracker::kWindow; ++i) {
+    edge->push(i, 50.f + float(int(rng() % 25) - 12), 50.f + float(rng() % 2));
+    float x, y;
+    corner.next(i, x, y);
+    corner_tracker->push(i, x, y);
+  }
+  EXPECT_LT(edge->windowAnisotropy(), 0.02f);
+  EXPECT_GT(corner_tracker->windowAnisotropy(), 0.15f);
+}
+
+}  // namespace
+}  // namespace asynevo::frontend
