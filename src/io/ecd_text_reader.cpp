@@ -51,26 +51,24 @@ EcdTextReader::EcdTextReader(const std::string& path, const ReaderOptions& optio
 
 void EcdTextReader::fail(const std::string& message) const { throw InputError::atLine(info_.path, line_, message); }
 
-bool EcdTextReader::fillLine() {
-  for (;;) {
-    if (begin_ < end_ && std::memchr(buffer_.data() + begin_, '\n', end_ - begin_) != nullptr) return true;
-    if (eof_) return begin_ < end_;
-    // Move the partial line to the front and read more behind it.
-    const std::size_t remaining = end_ - begin_;
-    if (remaining == buffer_.size()) {
-      line_ += 1;
-      fail("line longer than " + std::to_string(buffer_.size()) + " bytes; is this an ECD events.txt?");
-    }
-    std::memmove(buffer_.data(), buffer_.data() + begin_, remaining);
-    begin_ = 0;
-    end_ = remaining;
-    const std::size_t got = std::fread(buffer_.data() + end_, 1, buffer_.size() - end_, file_.get());
-    if (got == 0) {
-      if (std::ferror(file_.get())) throw InputError(info_.path, "read error: " + std::string(std::strerror(errno)));
-      eof_ = true;
-    }
-    end_ += got;
+bool EcdTextReader::refill() {
+  if (eof_) return false;
+  // Move the partial line to the front and read more behind it.
+  const std::size_t remaining = end_ - begin_;
+  if (remaining == buffer_.size()) {
+    line_ += 1;
+    fail("line longer than " + std::to_string(buffer_.size()) + " bytes; is this an ECD events.txt?");
   }
+  std::memmove(buffer_.data(), buffer_.data() + begin_, remaining);
+  begin_ = 0;
+  end_ = remaining;
+  const std::size_t got = std::fread(buffer_.data() + end_, 1, buffer_.size() - end_, file_.get());
+  if (got == 0) {
+    if (std::ferror(file_.get())) throw InputError(info_.path, "read error: " + std::string(std::strerror(errno)));
+    eof_ = true;
+  }
+  end_ += got;
+  return got > 0;
 }
 
 bool EcdTextReader::parseLine(const char* begin, const char* end, Event& event) {
@@ -113,9 +111,14 @@ bool EcdTextReader::parseLine(const char* begin, const char* end, Event& event) 
 bool EcdTextReader::read(EventPacket& packet) {
   packet.events.clear();
   packet.first_index = stats_.events;
-  while (static_cast<int>(packet.events.size()) < packet_size_ && fillLine()) {
+  while (static_cast<int>(packet.events.size()) < packet_size_) {
     const char* line_begin = buffer_.data() + begin_;
     const void* newline = std::memchr(line_begin, '\n', end_ - begin_);
+    if (newline == nullptr) {
+      if (refill()) continue;     // the line continues in the next chunk
+      if (begin_ == end_) break;  // end of data
+      line_begin = buffer_.data() + begin_;  // refill() moved the last, unterminated line
+    }
     const char* line_end = newline ? static_cast<const char*>(newline) : buffer_.data() + end_;
     begin_ = static_cast<std::size_t>(line_end - buffer_.data()) + (newline ? 1 : 0);
     ++line_;

@@ -20,8 +20,8 @@ class EcdTextReader final : public EventReader {
   const ReaderStats& stats() const override { return stats_; }
 
  private:
-  /// Makes sure a whole line (up to '\n' or end of file) is in the buffer; false at end of data.
-  bool fillLine();
+  /// Moves the unparsed tail to the buffer's front and appends more of the file; false at end of file.
+  bool refill();
   /// Parses one line [begin, end); returns false for blank/comment lines. Throws on bad lines.
   bool parseLine(const char* begin, const char* end, Event& event);
   [[noreturn]] void fail(const std::string& message) const;
