@@ -32,3 +32,29 @@ inline void writeMvsecEvents(const std::string& path, const std::vector<std::arr
 }
 
 }  // namespace asynevo::testing
+
+namespace asynevo::testing {
+
+/// <seq>_gt.hdf5: davis/left/pose N×4×4 (row-major homogeneous T_w_c) and davis/left/pose_ts N.
+inline void writeMvsecGroundTruth(const std::string& path, const std::vector<std::array<double, 16>>& poses,
+                                  const std::vector<double>& times) {
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(lcpl, 1);
+  const hsize_t pose_dims[3] = {poses.size(), 4, 4};
+  const hsize_t time_dims[1] = {times.size()};
+  const hid_t pose_space = H5Screate_simple(3, pose_dims, nullptr);
+  const hid_t time_space = H5Screate_simple(1, time_dims, nullptr);
+  const hid_t pose_set = H5Dcreate2(file, "davis/left/pose", H5T_IEEE_F64LE, pose_space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t time_set = H5Dcreate2(file, "davis/left/pose_ts", H5T_IEEE_F64LE, time_space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+  if (!poses.empty()) H5Dwrite(pose_set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, poses.data());
+  if (!times.empty()) H5Dwrite(time_set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, times.data());
+  H5Dclose(pose_set);
+  H5Dclose(time_set);
+  H5Sclose(pose_space);
+  H5Sclose(time_space);
+  H5Pclose(lcpl);
+  H5Fclose(file);
+}
+
+}  // namespace asynevo::testing
