@@ -1,14 +1,17 @@
 // 'asynevo info --dataset PATH': what a dataset holds, from one streaming pass over its events.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <string>
 
 #include "asynevo/core/config/config.hpp"
 #include "asynevo/core/error.hpp"
 #include "asynevo/core/time.hpp"
+#include "asynevo/io/calibration_io.hpp"
 #include "asynevo/io/dataset.hpp"
 #include "asynevo/io/event_reader.hpp"
 #include "asynevo/io/event_statistics.hpp"
+#include "asynevo/io/groundtruth_reader.hpp"
 #include "commands.hpp"
 #include "progress.hpp"
 
@@ -61,8 +64,28 @@ void runInfo(const InfoOptions& options) {
              info.width * info.height, 100.0 * static_cast<double>(stats.active_pixels) / (info.width * info.height),
              stats.max_pixel_events);
   if (stats.clamped_times > 0) fmt::print("clamped       {} events whose time went slightly backwards\n", stats.clamped_times);
-  fmt::print("calibration   {}\n", files.calibration ? *files.calibration : "none found (pass --calib to run)");
-  fmt::print("ground truth  {}\n", files.groundtruth ? *files.groundtruth : "none");
+  if (files.calibration) {
+    const CameraModel camera = readCalibration(*files.calibration, info.width, info.height);
+    fmt::print("calibration   {}\n              {}\n", *files.calibration, camera.summary());
+    if (camera.width() != info.width || camera.height() != info.height)
+      fmt::print("              warning: calibration is {}x{} but the events are {}x{}\n", camera.width(),
+                 camera.height(), info.width, info.height);
+  } else {
+    fmt::print("calibration   none found (a run needs --calib)\n");
+  }
+  if (files.groundtruth) {
+    const StampedTrajectory gt = readGroundTruth(*files.groundtruth);
+    char gt_first[32], gt_last[32];
+    formatNsAsSeconds(gt.front().t_ns, gt_first);
+    formatNsAsSeconds(gt.back().t_ns, gt_last);
+    const auto inside = std::count_if(gt.begin(), gt.end(), [&](const StampedPose& p) {
+      return p.t_ns >= stats.first_t_ns && p.t_ns <= stats.last_t_ns;
+    });
+    fmt::print("ground truth  {}\n              {} poses, {} .. {} s, {} inside the event span\n", *files.groundtruth,
+               gt.size(), gt_first, gt_last, inside);
+  } else {
+    fmt::print("ground truth  none\n");
+  }
 }
 
 }  // namespace

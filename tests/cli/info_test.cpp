@@ -38,6 +38,10 @@ TEST(InfoCommand, ReportsCalibrationAndGroundTruthFiles) {
   const auto result = runAsynevo("info --dataset " + dataPath("ecd/shapes_rotation"));
   EXPECT_NE(result.output.find("calibration   " + dataPath("ecd/shapes_rotation/calib.txt")), std::string::npos);
   EXPECT_NE(result.output.find("ground truth  " + dataPath("ecd/shapes_rotation/groundtruth.txt")), std::string::npos);
+  EXPECT_NE(result.output.find("fx=199.092"), std::string::npos) << result.output;
+  // 11,883 mocap poses at ~200 Hz; the 98.6 ms slice holds about 20 of them (19 strictly inside) (shared/data/SOURCES.md).
+  EXPECT_NE(result.output.find("11883 poses, 0.021"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("19 inside the event span"), std::string::npos) << result.output;
 }
 
 // Every bad-input case: the message names the file and line, and the exit code is 1.
