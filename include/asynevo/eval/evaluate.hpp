@@ -1,0 +1,57 @@
+#pragma once
+// One evaluation of an estimated trajectory against ground truth, as rpg_trajectory_evaluation
+// does it for one result folder: associate (0.02 s), align (sim3 by default, all frames), absolute
+// errors (ATE) of the aligned estimate, relative errors at sub-trajectory lengths of 10 … 50 % of
+// the ground-truth path length (or given lengths), pooled relative errors over all lengths.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "asynevo/core/stamped_pose.hpp"
+#include "asynevo/eval/alignment.hpp"
+#include "asynevo/eval/association.hpp"
+#include "asynevo/eval/statistics.hpp"
+#include "asynevo/eval/trajectory_errors.hpp"
+
+namespace asynevo::eval {
+
+struct EvalOptions {
+  AlignType align = AlignType::kSim3;
+  int align_frames = -1;                        ///< −1 = all associated poses
+  int64_t max_time_diff_ns = kDefaultMaxTimeDiffNs;
+  std::vector<double> rel_lengths_m;            ///< given lengths (m); empty = use percentages
+  std::vector<double> rel_percentages = {0.1, 0.2, 0.3, 0.4, 0.5};  ///< of the GT path length
+  bool rpg_start_indexing = true;               ///< see RelativeErrorOptions
+};
+
+struct EvalResult {
+  AlignType align = AlignType::kSim3;
+  int align_frames = -1;
+  int64_t max_time_diff_ns = kDefaultMaxTimeDiffNs;
+
+  std::size_t gt_poses = 0, est_poses = 0, matched = 0;
+  int64_t gt_t0_ns = 0, gt_t1_ns = 0, est_t0_ns = 0, est_t1_ns = 0;  ///< time spans of the inputs
+  double gt_path_length_m = 0.0;          ///< whole ground truth (rpg: percentages refer to this)
+  double matched_gt_path_length_m = 0.0;  ///< associated ground-truth poses only
+
+  PosePairs pairs;                       ///< associated poses (unaligned estimate)
+  std::vector<Match> matches;
+  Similarity alignment;
+  AbsoluteErrors ate;
+  std::vector<RelativeErrors> relative;  ///< one per length, in the order requested
+  Stats pooled_trans, pooled_trans_perc, pooled_rot;  ///< all lengths' samples together
+
+  std::vector<std::string> warnings;     ///< things a user should know (shown by the CLI)
+};
+
+/// Evaluates `est` against `gt`. Throws EvalError when nothing associates (with both time spans in
+/// the message, saying whether they overlap), when fewer than 3 poses associate, or on invalid
+/// options.
+EvalResult evaluate(const StampedTrajectory& gt, const StampedTrajectory& est, const EvalOptions& options);
+
+/// Reads both files (TUM / ECD layout) and evaluates. Reader warnings (normalized quaternions) and
+/// association problems name the files.
+EvalResult evaluateFiles(const std::string& gt_path, const std::string& est_path, const EvalOptions& options);
+
+}  // namespace asynevo::eval
