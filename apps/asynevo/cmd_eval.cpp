@@ -1,6 +1,16 @@
-// 'asynevo eval': contract fixed by DESIGN.md §1; the implementation has not landed yet.
-#include <string>
+// 'asynevo eval': evaluate an estimated trajectory against ground truth (DESIGN.md §1, §6) with
+// rpg_trajectory_evaluation's definitions; writes DIR/eval.json and rpg-style YAML files.
+#include <fmt/format.h>
 
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "asynevo/core/error.hpp"
+#include "asynevo/eval/evaluate.hpp"
+#include "asynevo/eval/report.hpp"
+#include "asynevo/eval/timing.hpp"
 #include "commands.hpp"
 
 namespace asynevo::cli {
@@ -8,13 +18,40 @@ namespace asynevo::cli {
 void addEvalCommand(CLI::App& app) {
   static std::string gt, est, align = "sim3", out;
   static int align_frames = -1;
+  static std::vector<double> rel_lengths;
   auto* cmd = app.add_subcommand("eval", "Evaluate an estimated trajectory against ground truth");
-  cmd->add_option("--gt", gt, "ground-truth trajectory (TUM)")->required();
+  cmd->add_option("--gt", gt, "ground-truth trajectory (TUM: t tx ty tz qx qy qz qw)")->required();
   cmd->add_option("--est", est, "estimated trajectory (TUM)")->required();
-  cmd->add_option("--align", align, "alignment (sim3, se3, posyaw, none)");
+  cmd->add_option("--align", align, "alignment (sim3, se3, posyaw, none)")
+      ->check(CLI::IsMember({"sim3", "se3", "posyaw", "none"}));
   cmd->add_option("--align-frames", align_frames, "poses used for the alignment (-1 = all)");
+  cmd->add_option("--rel-lengths", rel_lengths,
+                  "relative-error sub-trajectory lengths in metres (default: 10,20,30,40,50 % of the "
+                  "ground-truth path length)")
+      ->delimiter(',');
   cmd->add_option("--out", out, "folder for eval.json")->required();
-  cmd->callback([] { throw NotImplemented("eval"); });
+  cmd->callback([] {
+    eval::EvalOptions options;
+    options.align = *eval::parseAlignType(align);
+    options.align_frames = align_frames;
+    options.rel_lengths_m = rel_lengths;
+    const eval::EvalResult result = eval::evaluateFiles(gt, est, options);
+
+    // A run folder's timing.csv, if the output folder is one.
+    std::optional<eval::TimingStats> timing;
+    const std::string timing_path = (std::filesystem::path(out) / "timing.csv").string();
+    if (std::filesystem::exists(timing_path)) {
+      try {
+        timing = eval::readTimingStats(timing_path);
+      } catch (const InputError& e) {
+        fmt::print(stderr, "warning: timing statistics skipped: {}\n", e.what());
+      }
+    }
+    eval::ReportInputs inputs{gt, est, timing ? &*timing : nullptr};
+    const auto written = eval::writeEvalOutputs(out, result, inputs);
+    fmt::print("{}", eval::summaryTable(result, timing ? &*timing : nullptr));
+    fmt::print("wrote {}\n", written.front());
+  });
 }
 
 }  // namespace asynevo::cli

@@ -21,6 +21,7 @@ constexpr int kExitOk = 0;
 constexpr int kExitError = 1;            ///< bad input, failed processing
 constexpr int kExitNotImplemented = 3;   ///< a registered subcommand that does not exist yet
 
+void addConvertCommand(CLI::App& app);
 void addDemoCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
 void addRunCommand(CLI::App& app);

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   asynevo::cli::addSimulateCommand(app);
   asynevo::cli::addEvalCommand(app);
   asynevo::cli::addPlotCommand(app);
+  asynevo::cli::addConvertCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
