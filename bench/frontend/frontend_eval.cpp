@@ -1,0 +1,98 @@
+// frontend_eval: runs the frontend on ECD-style rotation slices and reports the rotation-consistency
+// accuracy (rotation_check.hpp), track lifetimes, the fitted angular velocity next to motion.txt (gyro)
+// and groundtruth.txt (mocap, over the whole slice), and the frontend statistics.
+//
+//   frontend_eval [--yaml 'frontend: {min_dt_ms: 1}'] [--accel] [--tracks FILE] DIR...
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "asynevo/core/config/config.hpp"
+#include "asynevo/frontend/frontend.hpp"
+#include "asynevo/frontend/rotation_check.hpp"
+#include "asynevo/io/calibration_io.hpp"
+#include "asynevo/io/event_reader.hpp"
+#include "asynevo/io/trajectory_io.hpp"
+
+using namespace asynevo;
+
+namespace {
+
+Eigen::Vector3d mocapAngularVelocity(const std::string& path, int64_t t0, int64_t t1) {
+  const StampedTrajectory gt = readEcdGroundTruth(path);
+  auto nearest = [&](int64_t t) {
+    std::size_t best = 0;
+    for (std::size_t i = 0; i < gt.size(); ++i)
+      if (std::llabs(gt[i].t_ns - t) < std::llabs(gt[best].t_ns - t)) best = i;
+    return gt[best];
+  };
+  const StampedPose a = nearest(t0), b = nearest(t1);
+  const Eigen::AngleAxisd aa(a.q_w_c.conjugate() * b.q_w_c);
+  return aa.axis() * aa.angle() / (static_cast<double>(b.t_ns - a.t_ns) * 1e-9);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Config config;
+  bool accel = false;
+  std::string tracks_path;
+  std::vector<std::string> dirs;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--yaml" && i + 1 < argc) {
+      applyConfigYaml(argv[++i], "--yaml", config);
+    } else if (a == "--accel") {
+      accel = true;
+    } else if (a == "--tracks" && i + 1 < argc) {
+      tracks_path = argv[++i];
+    } else {
+      dirs.push_back(a);
+    }
+  }
+  for (const std::string& dir : dirs) {
+    const std::vector<Event> events = readAllEvents(dir + "/events.txt");
+    const CameraModel camera = readEcdCalibration(dir + "/calib.txt");
+    frontend::Frontend fe(config.frontend, camera.width(), camera.height(), camera.undistortionTable<float>());
+    frontend::MeasurementCollector out;
+    for (const Event& e : events) fe.process(e, out);
+    fe.finish(out);
+    fmt::print("== {}\n{}", dir, fe.stats().summary());
+    if (!tracks_path.empty()) {
+      std::ofstream f(tracks_path);
+      for (const auto& m : out.measurements) f << fmt::format("{} {:.9f} {:.3f} {:.3f}\n", m.feature_id, m.t_ns * 1e-9, m.x, m.y);
+    }
+    frontend::RotationFitOptions options;
+    options.with_acceleration = accel;
+    try {
+      const auto r = frontend::fitCommonRotation(out.measurements, camera.fx(), camera.fy(), options);
+      fmt::print("rotation fit      {} tracks ({} excluded), {} measurements, {} iterations\n", r.tracks_used,
+                 r.tracks_excluded, r.measurements, r.iterations);
+      fmt::print("residual px       median {:.3f}  p90 {:.3f}  rms {:.3f}  >3px {:.1f} %\n", r.median_px, r.p90_px,
+                 r.rms_px, 100 * r.share_above_3px);
+      fmt::print("lifetime s        median {:.4f}  mean {:.4f}  max {:.4f}\n", r.lifetime_median_s,
+                 r.lifetime_mean_s, r.lifetime_max_s);
+      fmt::print("omega fit         {:+.3f} {:+.3f} {:+.3f} rad/s (|w| {:.3f})\n", r.omega.x(), r.omega.y(),
+                 r.omega.z(), r.omega.norm());
+      if (accel) fmt::print("alpha fit         {:+.2f} {:+.2f} {:+.2f} rad/s^2\n", r.alpha.x(), r.alpha.y(), r.alpha.z());
+    } catch (const std::exception& e) {
+      fmt::print("rotation fit      not possible: {}\n", e.what());
+    }
+    std::ifstream motion(dir + "/motion.txt");
+    double wx, wy, wz;
+    if (motion >> wx >> wy >> wz)
+      fmt::print("motion.txt gyro   {:+.3f} {:+.3f} {:+.3f} rad/s (|w| {:.3f})\n", wx, wy, wz,
+                 Eigen::Vector3d(wx, wy, wz).norm());
+    if (std::filesystem::exists(dir + "/groundtruth.txt")) {
+      const Eigen::Vector3d w = mocapAngularVelocity(dir + "/groundtruth.txt", events.front().t_ns, events.back().t_ns);
+      fmt::print("mocap mean        {:+.3f} {:+.3f} {:+.3f} rad/s (|w| {:.3f}) over the slice\n", w.x(), w.y(), w.z(),
+                 w.norm());
+    }
+  }
+  return 0;
+}

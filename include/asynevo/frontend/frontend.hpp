@@ -1,0 +1,200 @@
+#pragma once
+// The asynchronous event-driven frontend (DESIGN.md §4 Frontend; docs/frontend.md): per event, in one
+// thread,
+//  1. validate (inside the sensor; time not going back by more than a tolerance), update the
+//     refractory-filter maps and the SAE for every valid event;
+//  2. dispatch the event through a coarse grid to the HASTE trackers whose circle contains it; on a
+//     state change move the feature in the registration table, resolve collisions (the older feature
+//     stays), drop it near the border, record a measurement if min_dt passed since its last one;
+//  3. otherwise, when fewer than max_features are active, run the corner detector; a corner seeds a
+//     feature when the registration table holds no feature within min_distance (patch search);
+//  4. every housekeeping period of event time drop features that are idle, that never initialized,
+//     or that fail the quality test (window events spread along a line: an edge, where HASTE drifts).
+// Trackers work in raw pixel coordinates; measurements carry raw pixels and normalized undistorted
+// coordinates interpolated from an injected per-pixel undistortion table.
+// After construction nothing is allocated per event (trackers live in a fixed pool).
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "asynevo/core/camera/undistortion_table.hpp"
+#include "asynevo/core/config/frontend_config.hpp"
+#include "asynevo/core/event.hpp"
+#include "asynevo/frontend/corner_detector.hpp"
+#include "asynevo/frontend/haste_tracker.hpp"
+#include "asynevo/frontend/sae.hpp"
+#include "asynevo/frontend/track_measurement.hpp"
+
+namespace asynevo::frontend {
+
+/// Why a feature ended.
+enum class DropReason : uint8_t {
+  kBorder,       ///< its position came within border_margin_px of the image border
+  kCollision,    ///< it came within collision_radius_px of an older feature
+  kIdle,         ///< no state change for max_idle_ms
+  kInitTimeout,  ///< its tracker did not fill its first window within init_timeout_ms
+  kQuality,      ///< quality test failed (edge-like window: drift risk)
+  kUnhealthy,    ///< the tracker's template lost its mass (numerical guard)
+  kFinished,     ///< the stream ended (finish())
+};
+constexpr int kDropReasonCount = 7;
+const char* dropReasonName(DropReason reason);
+
+struct FeatureEnd {
+  int64_t feature_id = 0;
+  int64_t t_ns = 0;  ///< event time of the decision
+  DropReason reason = DropReason::kFinished;
+  uint32_t measurements = 0;  ///< measurements recorded for it
+};
+
+/// Receives the frontend's output as it is produced.
+class MeasurementSink {
+ public:
+  virtual ~MeasurementSink() = default;
+  virtual void onMeasurement(const TrackMeasurement& m) = 0;
+  virtual void onFeatureEnd(const FeatureEnd& /*end*/) {}
+};
+
+/// A sink that keeps everything (tests, tools, small files).
+class MeasurementCollector final : public MeasurementSink {
+ public:
+  void onMeasurement(const TrackMeasurement& m) override { measurements.push_back(m); }
+  void onFeatureEnd(const FeatureEnd& end) override { ends.push_back(end); }
+  std::vector<TrackMeasurement> measurements;
+  std::vector<FeatureEnd> ends;
+};
+
+struct FrontendStats {
+  uint64_t events = 0;                 ///< events received
+  uint64_t dropped_out_of_sensor = 0;  ///< outside width x height
+  uint64_t dropped_time_reversal = 0;  ///< earlier than the newest by more than the tolerance
+  uint64_t clamped_time = 0;           ///< slightly earlier: processed at the newest time
+  uint64_t filter_accepted = 0;        ///< passed the refractory filter
+  uint64_t detector_runs = 0;          ///< events that reached the corner detector
+  uint64_t candidates = 0;             ///< Arc* candidates among them
+  uint64_t corners = 0;                ///< corners among them
+  uint64_t tracker_updates = 0;        ///< (event, tracker) pairs inside a tracker's circle
+  uint64_t state_changes = 0;
+  uint64_t measurements = 0;
+  uint64_t measurements_without_undistortion = 0;  ///< skipped: invalid undistortion table entry
+  uint64_t features_created = 0;
+  std::array<uint64_t, kDropReasonCount> features_dropped{};
+  int active_features = 0;
+  int max_active_features = 0;
+  double active_feature_seconds = 0;  ///< integral of the active count over event time
+  int64_t first_t_ns = 0;
+  int64_t last_t_ns = 0;
+
+  double spanSeconds() const;
+  /// Count per second of event time (0 for an empty span).
+  double perSecond(uint64_t count) const;
+  double meanActiveFeatures() const;
+  /// Multi-line human-readable summary.
+  std::string summary() const;
+};
+
+class Frontend {
+ public:
+  /// `undistortion` maps raw pixels to normalized undistorted coordinates (CameraModel::
+  /// undistortionTable<float>()); an empty table means identity (xn = x, yn = y), for tests.
+  Frontend(const FrontendConfig& config, int width, int height, UndistortionTable<float> undistortion = {});
+  ~Frontend();
+  Frontend(const Frontend&) = delete;
+  Frontend& operator=(const Frontend&) = delete;
+
+  void process(const Event& e, MeasurementSink& sink);
+  void process(const EventPacket& packet, MeasurementSink& sink) {
+    for (const Event& e : packet.events) process(e, sink);
+  }
+  /// Ends every active feature (reason kFinished) at the newest event time.
+  void finish(MeasurementSink& sink);
+
+  const FrontendStats& stats() const { return stats_; }
+  int activeFeatures() const { return stats_.active_features; }
+  const SurfaceOfActiveEvents& sae() const { return sae_; }
+  /// Feature id registered at a pixel, or -1.
+  int64_t registeredAt(int x, int y) const { return registration_[static_cast<std::size_t>(y) * width_ + x]; }
+
+  struct FeatureView {
+    int64_t id;
+    TrackerState state;
+    bool initialized;
+  };
+  /// The active features (allocates; not for the hot path).
+  std::vector<FeatureView> features() const;
+
+  /// Normalized coordinates of a raw position (bilinear in the table); false when not available.
+  bool normalize(float x, float y, float& xn, float& yn) const;
+
+ private:
+  struct Slot {
+    std::unique_ptr<HasteTracker> tracker;
+    int64_t id = -1;  ///< -1: free
+    int64_t created_ns = 0;
+    int64_t last_change_ns = 0;
+    int64_t last_recorded_ns = 0;
+    bool recorded = false;
+    int reg_index = -1;  ///< registration-table index it occupies, or -1
+    int cell = -1;       ///< dispatch-grid cell
+    int next_in_cell = -1;
+    uint32_t measurements = 0;
+  };
+  /// id -> slot, open addressing with linear probing; fixed capacity, no allocation after construction.
+  class IdMap {
+   public:
+    explicit IdMap(int max_entries);
+    void insert(int64_t id, int slot);
+    int find(int64_t id) const;
+    void erase(int64_t id);
+
+   private:
+    std::size_t home(int64_t id) const { return (static_cast<uint64_t>(id) * 0x9E3779B97F4A7C15ull) >> shift_; }
+    std::vector<int64_t> keys_;
+    std::vector<int> values_;
+    std::size_t mask_;
+    int shift_;
+  };
+
+  void housekeeping(int64_t t_ns, MeasurementSink& sink);
+  void onStateChange(int slot, int64_t t_ns, MeasurementSink& sink);
+  void trySeed(const Event& e);
+  void drop(int slot, DropReason reason, int64_t t_ns, MeasurementSink& sink);
+  void cellInsert(int slot, int cell);
+  void cellRemove(int slot);
+  int cellOf(int x, int y) const { return (y >> kCellShift) * grid_w_ + (x >> kCellShift); }
+
+  static constexpr int kCellShift = 4;  ///< 16 px cells >= the tracker radius (15): 3x3 cells suffice
+
+  FrontendConfig config_;
+  int width_;
+  int height_;
+  UndistortionTable<float> undistortion_;
+  SurfaceOfActiveEvents sae_;
+  CornerDetector detector_;
+  std::vector<int64_t> registration_;  ///< W x H feature ids, -1 = empty
+  std::vector<Slot> slots_;
+  std::vector<int> free_slots_;
+  IdMap id_map_;
+  int grid_w_;
+  int grid_h_;
+  std::vector<int> cell_heads_;
+  std::vector<std::pair<int, int64_t>> changed_;  ///< (slot, id) whose state changed on this event
+  int64_t next_id_ = 0;
+  int64_t newest_t_ns_ = 0;
+  bool started_ = false;
+  int64_t next_housekeeping_ns_ = 0;
+  int64_t last_housekeeping_ns_ = 0;
+  // Parameters in ns / px, derived once.
+  int64_t max_reversal_ns_;
+  int64_t min_dt_ns_;
+  int64_t max_idle_ns_;
+  int64_t init_timeout_ns_;
+  int64_t housekeeping_ns_;
+  float border_margin_;
+  FrontendStats stats_;
+};
+
+}  // namespace asynevo::frontend

@@ -1,0 +1,418 @@
+// Feature management of the event-driven frontend: registration table, id -> tracker map, dispatch
+// grid, patch search, collisions, border/idle/time-out/quality removal, measurement throttling.
+// Design: DESIGN.md §4 and shared/reference/frontend.md §10.5; decisions in docs/frontend.md.
+#include "asynevo/frontend/frontend.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+#include "asynevo/core/error.hpp"
+#include "asynevo/core/time.hpp"
+
+namespace asynevo::frontend {
+
+const char* dropReasonName(DropReason reason) {
+  switch (reason) {
+    case DropReason::kBorder: return "border";
+    case DropReason::kCollision: return "collision";
+    case DropReason::kIdle: return "idle";
+    case DropReason::kInitTimeout: return "init_timeout";
+    case DropReason::kQuality: return "quality";
+    case DropReason::kUnhealthy: return "unhealthy";
+    case DropReason::kFinished: return "finished";
+  }
+  return "?";
+}
+
+double FrontendStats::spanSeconds() const { return events == 0 ? 0.0 : durationSeconds(first_t_ns, last_t_ns); }
+
+double FrontendStats::perSecond(uint64_t count) const {
+  const double span = spanSeconds();
+  return span > 0 ? static_cast<double>(count) / span : 0.0;
+}
+
+double FrontendStats::meanActiveFeatures() const {
+  const double span = spanSeconds();
+  return span > 0 ? active_feature_seconds / span : 0.0;
+}
+
+std::string FrontendStats::summary() const {
+  std::string s;
+  s += fmt::format("events            {} over {:.6f} s of event time ({:.0f} ev/s)\n", events, spanSeconds(),
+                   perSecond(events));
+  s += fmt::format("dropped events    {} outside the sensor, {} time reversal; {} clamped\n",
+                   dropped_out_of_sensor, dropped_time_reversal, clamped_time);
+  s += fmt::format("detector          {} runs, {} candidates, {} corners ({:.0f} corners/s)\n", detector_runs,
+                   candidates, corners, perSecond(corners));
+  s += fmt::format("trackers          {} in-range updates, {} state changes\n", tracker_updates, state_changes);
+  s += fmt::format("features          {} created, {} active now, {:.1f} active on average, {} at most\n",
+                   features_created, active_features, meanActiveFeatures(), max_active_features);
+  s += "features dropped ";
+  for (int r = 0; r < kDropReasonCount; ++r)
+    s += fmt::format(" {}={}", dropReasonName(static_cast<DropReason>(r)), features_dropped[r]);
+  s += fmt::format("\nmeasurements      {} ({:.0f}/s), {} without undistortion\n", measurements,
+                   perSecond(measurements), measurements_without_undistortion);
+  return s;
+}
+
+// ---- IdMap ---------------------------------------------------------------------------------------
+
+Frontend::IdMap::IdMap(int max_entries) {
+  std::size_t capacity = 16;
+  int bits = 4;
+  while (capacity < 4 * static_cast<std::size_t>(max_entries)) {
+    capacity *= 2;
+    ++bits;
+  }
+  keys_.assign(capacity, -1);
+  values_.assign(capacity, -1);
+  mask_ = capacity - 1;
+  shift_ = 64 - bits;
+}
+
+void Frontend::IdMap::insert(int64_t id, int slot) {
+  assert(id >= 0);
+  std::size_t i = home(id);
+  while (keys_[i] != -1) {
+    assert(keys_[i] != id);
+    i = (i + 1) & mask_;
+  }
+  keys_[i] = id;
+  values_[i] = slot;
+}
+
+int Frontend::IdMap::find(int64_t id) const {
+  for (std::size_t i = home(id);; i = (i + 1) & mask_) {
+    if (keys_[i] == id) return values_[i];
+    if (keys_[i] == -1) return -1;
+  }
+}
+
+void Frontend::IdMap::erase(int64_t id) {
+  std::size_t i = home(id);
+  while (keys_[i] != id) {
+    if (keys_[i] == -1) return;
+    i = (i + 1) & mask_;
+  }
+  // Backward-shift deletion keeps probe chains intact without tombstones.
+  std::size_t hole = i;
+  for (std::size_t j = (i + 1) & mask_; keys_[j] != -1; j = (j + 1) & mask_) {
+    const std::size_t h = home(keys_[j]);
+    // Move keys_[j] into the hole if its home is not in (hole, j] cyclically.
+    const bool home_in_range = hole <= j ? (h > hole && h <= j) : (h > hole || h <= j);
+    if (!home_in_range) {
+      keys_[hole] = keys_[j];
+      values_[hole] = values_[j];
+      hole = j;
+    }
+  }
+  keys_[hole] = -1;
+  values_[hole] = -1;
+}
+
+// ---- Frontend ------------------------------------------------------------------------------------
+
+namespace {
+
+DetectorParams detectorParams(const FrontendConfig& c) {
+  DetectorParams p;
+  p.kind = c.detector == "arc_star" ? DetectorKind::kArcStar : DetectorKind::kFaHarris;
+  p.harris_threshold = c.harris_threshold;
+  p.harris_k = c.harris_k;
+  p.harris_latest = c.harris_latest;
+  return p;
+}
+
+HasteParams hasteParams(const FrontendConfig& c) {
+  HasteParams p;
+  p.variant = c.tracker == "haste_correlation_star" ? HasteVariant::kCorrelationStar : HasteVariant::kDifferenceStar;
+  p.hysteresis = c.haste_hysteresis;
+  p.template_update = c.haste_template_update;
+  return p;
+}
+
+int64_t msToNs(double ms) { return std::llround(ms * 1e6); }
+
+}  // namespace
+
+Frontend::Frontend(const FrontendConfig& config, int width, int height, UndistortionTable<float> undistortion)
+    : config_(config),
+      width_(width),
+      height_(height),
+      undistortion_(std::move(undistortion)),
+      sae_(width, height, msToNs(config.refractory_period_ms)),
+      detector_(sae_, detectorParams(config)),
+      registration_(static_cast<std::size_t>(width) * height, -1),
+      slots_(config.max_features),
+      id_map_(config.max_features),
+      grid_w_((width + (1 << kCellShift) - 1) >> kCellShift),
+      grid_h_((height + (1 << kCellShift) - 1) >> kCellShift),
+      cell_heads_(static_cast<std::size_t>(grid_w_) * grid_h_, -1),
+      max_reversal_ns_(std::llround(config.max_time_reversal_us * 1e3)),
+      min_dt_ns_(msToNs(config.min_dt_ms)),
+      max_idle_ns_(msToNs(config.max_idle_ms)),
+      init_timeout_ns_(msToNs(config.init_timeout_ms)),
+      housekeeping_ns_(std::max<int64_t>(1, msToNs(config.housekeeping_ms))),
+      border_margin_(static_cast<float>(config.border_margin_px)) {
+  config.validate();
+  if (undistortion_.width() != 0 && (undistortion_.width() != width || undistortion_.height() != height))
+    throw Error(fmt::format("frontend: undistortion table is {}x{} but the sensor is {}x{}", undistortion_.width(),
+                            undistortion_.height(), width, height));
+  const HasteParams haste = hasteParams(config);
+  free_slots_.reserve(slots_.size());
+  for (int i = static_cast<int>(slots_.size()) - 1; i >= 0; --i) {
+    slots_[i].tracker = makeHasteTracker(haste);
+    free_slots_.push_back(i);
+  }
+  changed_.reserve(slots_.size());
+}
+
+Frontend::~Frontend() = default;
+
+bool Frontend::normalize(float x, float y, float& xn, float& yn) const {
+  if (undistortion_.width() == 0) {
+    xn = x;
+    yn = y;
+    return true;
+  }
+  if (!(x >= 0.f && y >= 0.f && x <= float(width_ - 1) && y <= float(height_ - 1))) return false;
+  const int x0 = std::min(static_cast<int>(x), width_ - 2), y0 = std::min(static_cast<int>(y), height_ - 2);
+  const float fx = x - float(x0), fy = y - float(y0);
+  if (!undistortion_.valid(x0, y0) || !undistortion_.valid(x0 + 1, y0) || !undistortion_.valid(x0, y0 + 1) ||
+      !undistortion_.valid(x0 + 1, y0 + 1))
+    return false;
+  const float w00 = (1 - fx) * (1 - fy), w10 = fx * (1 - fy), w01 = (1 - fx) * fy, w11 = fx * fy;
+  xn = w00 * undistortion_.xn(x0, y0) + w10 * undistortion_.xn(x0 + 1, y0) + w01 * undistortion_.xn(x0, y0 + 1) +
+       w11 * undistortion_.xn(x0 + 1, y0 + 1);
+  yn = w00 * undistortion_.yn(x0, y0) + w10 * undistortion_.yn(x0 + 1, y0) + w01 * undistortion_.yn(x0, y0 + 1) +
+       w11 * undistortion_.yn(x0 + 1, y0 + 1);
+  return true;
+}
+
+void Frontend::cellInsert(int slot, int cell) {
+  assert(cell >= 0 && cell < static_cast<int>(cell_heads_.size()));
+  slots_[slot].cell = cell;
+  slots_[slot].next_in_cell = cell_heads_[cell];
+  cell_heads_[cell] = slot;
+}
+
+void Frontend::cellRemove(int slot) {
+  const int cell = slots_[slot].cell;
+  if (cell < 0) return;
+  int* link = &cell_heads_[cell];
+  while (*link != slot) {
+    assert(*link >= 0);
+    link = &slots_[*link].next_in_cell;
+  }
+  *link = slots_[slot].next_in_cell;
+  slots_[slot].cell = -1;
+  slots_[slot].next_in_cell = -1;
+}
+
+void Frontend::process(const Event& input, MeasurementSink& sink) {
+  ++stats_.events;
+  if (input.x >= width_ || input.y >= height_) {
+    ++stats_.dropped_out_of_sensor;
+    return;
+  }
+  int64_t t = input.t_ns;
+  if (!started_) {
+    started_ = true;
+    stats_.first_t_ns = t;
+    newest_t_ns_ = t;
+    last_housekeeping_ns_ = t;
+    next_housekeeping_ns_ = t + housekeeping_ns_;
+  } else if (t < newest_t_ns_) {
+    if (newest_t_ns_ - t > max_reversal_ns_) {
+      ++stats_.dropped_time_reversal;
+      return;
+    }
+    ++stats_.clamped_time;
+    t = newest_t_ns_;
+  }
+  newest_t_ns_ = t;
+  stats_.last_t_ns = t;
+  if (t >= next_housekeeping_ns_) housekeeping(t, sink);
+
+  Event e = input;
+  e.t_ns = t;
+  const bool accepted = sae_.update(e);
+  stats_.filter_accepted += accepted ? 1 : 0;
+
+  // Dispatch to the trackers of the 3x3 cells around the event.
+  const float ex = e.x, ey = e.y;
+  const int cx = e.x >> kCellShift, cy = e.y >> kCellShift;
+  const int gx0 = std::max(cx - 1, 0), gx1 = std::min(cx + 1, grid_w_ - 1);
+  const int gy0 = std::max(cy - 1, 0), gy1 = std::min(cy + 1, grid_h_ - 1);
+  bool used = false;
+  changed_.clear();
+  for (int gy = gy0; gy <= gy1; ++gy) {
+    for (int gx = gx0; gx <= gx1; ++gx) {
+      for (int s = cell_heads_[gy * grid_w_ + gx]; s >= 0; s = slots_[s].next_in_cell) {
+        const TrackerResult r = slots_[s].tracker->push(t, ex, ey);
+        if (r == TrackerResult::kOutOfRange) continue;
+        used = true;
+        ++stats_.tracker_updates;
+        if (r == TrackerResult::kStateChanged || !slots_[s].tracker->healthy())
+          changed_.emplace_back(s, slots_[s].id);
+      }
+    }
+  }
+  for (const auto& [slot, id] : changed_)
+    if (slots_[slot].id == id) onStateChange(slot, t, sink);  // may have been dropped by a collision
+
+  if (used || stats_.active_features >= config_.max_features) return;
+  ++stats_.detector_runs;
+  const CornerResult corner = detector_.detect(e, accepted);
+  stats_.candidates += corner.candidate ? 1 : 0;
+  if (!corner.corner) return;
+  ++stats_.corners;
+  trySeed(e);
+}
+
+void Frontend::onStateChange(int slot, int64_t t_ns, MeasurementSink& sink) {
+  Slot& s = slots_[slot];
+  const HasteTracker& tracker = *s.tracker;
+  if (!tracker.healthy()) return drop(slot, DropReason::kUnhealthy, t_ns, sink);
+  ++stats_.state_changes;
+  const TrackerState& st = tracker.state();
+  if (!(st.x >= border_margin_ && st.y >= border_margin_ && st.x <= float(width_ - 1) - border_margin_ &&
+        st.y <= float(height_ - 1) - border_margin_))
+    return drop(slot, DropReason::kBorder, t_ns, sink);
+  s.last_change_ns = t_ns;
+
+  // Registration table: collisions with another feature within the collision radius.
+  const int rx = std::clamp(static_cast<int>(std::lround(st.x)), 0, width_ - 1);
+  const int ry = std::clamp(static_cast<int>(std::lround(st.y)), 0, height_ - 1);
+  const int reg = ry * width_ + rx;
+  if (reg != s.reg_index) {
+    if (s.reg_index >= 0 && registration_[s.reg_index] == s.id) registration_[s.reg_index] = -1;
+    s.reg_index = -1;
+    const float radius = static_cast<float>(config_.collision_radius_px);
+    const int r = static_cast<int>(std::ceil(radius));
+    for (int y = std::max(ry - r, 0); y <= std::min(ry + r, height_ - 1); ++y) {
+      for (int x = std::max(rx - r, 0); x <= std::min(rx + r, width_ - 1); ++x) {
+        const int64_t other = registration_[static_cast<std::size_t>(y) * width_ + x];
+        if (other < 0 || other == s.id) continue;
+        const int other_slot = id_map_.find(other);
+        assert(other_slot >= 0);
+        const TrackerState& os = slots_[other_slot].tracker->state();
+        const float dx = os.x - st.x, dy = os.y - st.y;
+        if (dx * dx + dy * dy > radius * radius && !(x == rx && y == ry)) continue;
+        if (other < s.id) return drop(slot, DropReason::kCollision, t_ns, sink);  // the older one stays
+        drop(other_slot, DropReason::kCollision, t_ns, sink);
+      }
+    }
+    registration_[reg] = s.id;
+    s.reg_index = reg;
+  }
+  const int cell = cellOf(rx, ry);
+  if (cell != s.cell) {
+    cellRemove(slot);
+    cellInsert(slot, cell);
+  }
+
+  // Measurement, at most one per min_dt of state time.
+  if (s.recorded && st.t_ns - s.last_recorded_ns < min_dt_ns_) return;
+  TrackMeasurement m;
+  m.feature_id = s.id;
+  m.t_ns = st.t_ns;
+  m.x = st.x;
+  m.y = st.y;
+  if (!normalize(st.x, st.y, m.xn, m.yn)) {
+    ++stats_.measurements_without_undistortion;
+    return;
+  }
+  s.recorded = true;
+  s.last_recorded_ns = st.t_ns;
+  ++s.measurements;
+  ++stats_.measurements;
+  sink.onMeasurement(m);
+}
+
+void Frontend::trySeed(const Event& e) {
+  const float x = e.x, y = e.y;
+  if (!(x >= border_margin_ && y >= border_margin_ && x <= float(width_ - 1) - border_margin_ &&
+        y <= float(height_ - 1) - border_margin_))
+    return;
+  // Patch search: no registered feature within min_distance.
+  const double d = config_.min_distance_px;
+  const int r = static_cast<int>(std::floor(d));
+  for (int yy = std::max(e.y - r, 0); yy <= std::min(e.y + r, height_ - 1); ++yy) {
+    const int64_t* row = &registration_[static_cast<std::size_t>(yy) * width_];
+    const int dy = yy - e.y;
+    for (int xx = std::max(e.x - r, 0); xx <= std::min(e.x + r, width_ - 1); ++xx) {
+      const int dx = xx - e.x;
+      if (row[xx] >= 0 && dx * dx + dy * dy <= d * d) return;
+    }
+  }
+  if (free_slots_.empty()) return;
+  const int slot = free_slots_.back();
+  free_slots_.pop_back();
+  Slot& s = slots_[slot];
+  s.id = next_id_++;
+  s.created_ns = e.t_ns;
+  s.last_change_ns = e.t_ns;
+  s.recorded = false;
+  s.measurements = 0;
+  s.tracker->reset(e.t_ns, x, y);
+  s.tracker->push(e.t_ns, x, y);  // the seed event is the first of its window
+  s.reg_index = e.y * width_ + e.x;
+  registration_[s.reg_index] = s.id;
+  id_map_.insert(s.id, slot);
+  cellInsert(slot, cellOf(e.x, e.y));
+  ++stats_.features_created;
+  ++stats_.active_features;
+  stats_.max_active_features = std::max(stats_.max_active_features, stats_.active_features);
+}
+
+void Frontend::drop(int slot, DropReason reason, int64_t t_ns, MeasurementSink& sink) {
+  Slot& s = slots_[slot];
+  assert(s.id >= 0);
+  if (s.reg_index >= 0 && registration_[s.reg_index] == s.id) registration_[s.reg_index] = -1;
+  s.reg_index = -1;
+  cellRemove(slot);
+  id_map_.erase(s.id);
+  ++stats_.features_dropped[static_cast<int>(reason)];
+  --stats_.active_features;
+  sink.onFeatureEnd(FeatureEnd{s.id, t_ns, reason, s.measurements});
+  s.id = -1;
+  free_slots_.push_back(slot);
+}
+
+void Frontend::housekeeping(int64_t t_ns, MeasurementSink& sink) {
+  stats_.active_feature_seconds += stats_.active_features * durationSeconds(last_housekeeping_ns_, t_ns);
+  last_housekeeping_ns_ = t_ns;
+  next_housekeeping_ns_ = t_ns + housekeeping_ns_;
+  for (int slot = 0; slot < static_cast<int>(slots_.size()); ++slot) {
+    const Slot& s = slots_[slot];
+    if (s.id < 0) continue;
+    const HasteTracker& tracker = *s.tracker;
+    if (!tracker.initialized()) {
+      if (t_ns - s.created_ns > init_timeout_ns_) drop(slot, DropReason::kInitTimeout, t_ns, sink);
+    } else if (t_ns - s.last_change_ns > max_idle_ns_) {
+      drop(slot, DropReason::kIdle, t_ns, sink);
+    } else if (tracker.windowAnisotropy() < config_.min_anisotropy) {
+      drop(slot, DropReason::kQuality, t_ns, sink);
+    }
+  }
+}
+
+void Frontend::finish(MeasurementSink& sink) {
+  if (started_) housekeeping(newest_t_ns_, sink);
+  for (int slot = 0; slot < static_cast<int>(slots_.size()); ++slot)
+    if (slots_[slot].id >= 0) drop(slot, DropReason::kFinished, newest_t_ns_, sink);
+}
+
+std::vector<Frontend::FeatureView> Frontend::features() const {
+  std::vector<FeatureView> out;
+  for (const Slot& s : slots_)
+    if (s.id >= 0) out.push_back(FeatureView{s.id, s.tracker->state(), s.tracker->initialized()});
+  std::sort(out.begin(), out.end(), [](const FeatureView& a, const FeatureView& b) { return a.id < b.id; });
+  return out;
+}
+
+}  // namespace asynevo::frontend

@@ -1,0 +1,185 @@
+#include "asynevo/frontend/frontend.hpp"
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "asynevo/core/error.hpp"
+
+#include "synthetic_events.hpp"
+
+namespace asynevo::frontend {
+namespace {
+
+using testing::MovingSquare;
+using testing::simulateSquares;
+
+Event ev(int64_t t, int x, int y, int p) {
+  return Event{t, static_cast<uint16_t>(x), static_cast<uint16_t>(y), static_cast<int8_t>(p)};
+}
+
+std::map<int64_t, std::vector<TrackMeasurement>> byFeature(const std::vector<TrackMeasurement>& ms) {
+  std::map<int64_t, std::vector<TrackMeasurement>> out;
+  for (const auto& m : ms) out[m.feature_id].push_back(m);
+  return out;
+}
+
+TEST(Frontend, TracksCornersOfMovingSquaresWithThrottledMeasurements) {
+  const int w = 160, h = 120;
+  // Two squares, far apart, moving right and down-left.
+  const std::vector<MovingSquare> squares = {{30, 30, 30, 120, 40}, {100, 60, 28, -60, 50}};
+  const auto events = simulateSquares(squares, w, h, 0.3);
+  FrontendConfig config;
+  Frontend fe(config, w, h);
+  MeasurementCollector out;
+  for (const Event& e : events) fe.process(e, out);
+  fe.finish(out);
+  const FrontendStats& st = fe.stats();
+  EXPECT_EQ(st.events, events.size());
+  EXPECT_GT(st.features_created, 2u);
+  EXPECT_GT(st.measurements, 20u);
+  EXPECT_EQ(fe.activeFeatures(), 0);
+  uint64_t dropped = 0;
+  for (uint64_t d : st.features_dropped) dropped += d;
+  EXPECT_EQ(dropped, st.features_created);
+  EXPECT_EQ(out.ends.size(), st.features_created);
+
+  // Ids increase with creation; per feature times are non-decreasing and at least min_dt apart.
+  const auto tracks = byFeature(out.measurements);
+  int64_t previous_first_t = -1;
+  for (const auto& [id, ms] : tracks) {
+    EXPECT_GE(ms.front().t_ns, previous_first_t - config.init_timeout_ms * 1e6);
+    previous_first_t = ms.front().t_ns;
+    for (std::size_t i = 1; i < ms.size(); ++i)
+      EXPECT_GE(ms[i].t_ns - ms[i - 1].t_ns, static_cast<int64_t>(config.min_dt_ms * 1e6)) << "feature " << id;
+    // Without an undistortion table xn, yn are the raw coordinates.
+    EXPECT_EQ(ms.front().xn, ms.front().x);
+  }
+  // Every track moves with one of the squares: its displacement over its life matches the velocity.
+  int matched = 0;
+  for (const auto& [id, ms] : tracks) {
+    if (ms.size() < 4) continue;
+    const double dt = (ms.back().t_ns - ms.front().t_ns) * 1e-9;
+    const double dx = ms.back().x - ms.front().x, dy = ms.back().y - ms.front().y;
+    double best = 1e9;
+    for (const auto& s : squares) best = std::min(best, std::hypot(dx - s.vx * dt, dy - s.vy * dt));
+    EXPECT_LT(best, 2.5) << "feature " << id << " over " << dt << " s: moved " << dx << " " << dy << " from "
+                         << ms.front().x << " " << ms.front().y << " n " << ms.size();
+    ++matched;
+  }
+  EXPECT_GE(matched, 2);
+}
+
+TEST(Frontend, FeaturesLeavingTheImageAreDroppedAtTheBorder) {
+  const int w = 120, h = 90;
+  const std::vector<MovingSquare> squares = {{40, 30, 30, 250, 40}};  // leaves to the right
+  const auto events = simulateSquares(squares, w, h, 0.4);
+  Frontend fe(FrontendConfig{}, w, h);
+  MeasurementCollector out;
+  for (const Event& e : events) fe.process(e, out);
+  EXPECT_GT(fe.stats().features_dropped[static_cast<int>(DropReason::kBorder)], 0u);
+  for (const auto& m : out.measurements) {
+    EXPECT_GE(m.x, 16.f);
+    EXPECT_LE(m.x, w - 1 - 16.f);
+  }
+}
+
+TEST(Frontend, IdleAndNeverInitializedFeaturesTimeOut) {
+  const int w = 120, h = 90;
+  // The square moves for 0.1 s, then disappears: its features become idle.
+  std::vector<MovingSquare> squares = {{40, 30, 30, 100, 60}};
+  squares[0].t_end = 0.1;
+  auto events = simulateSquares(squares, w, h, 0.1);
+  // Later, far away background events keep event time running.
+  for (int i = 0; i < 3000; ++i) events.push_back(ev(100'000'000 + i * 100'000, 5 + i % 3, 80, 1));
+  FrontendConfig config;
+  Frontend fe(config, w, h);
+  MeasurementCollector out;
+  for (const Event& e : events) fe.process(e, out);
+  const auto& dropped = fe.stats().features_dropped;
+  EXPECT_GT(dropped[static_cast<int>(DropReason::kIdle)] + dropped[static_cast<int>(DropReason::kInitTimeout)] +
+                dropped[static_cast<int>(DropReason::kQuality)],
+            0u);
+  EXPECT_EQ(fe.activeFeatures(), 0);
+}
+
+TEST(Frontend, BadEventsAreCountedNotProcessed) {
+  FrontendConfig config;
+  config.max_time_reversal_us = 1.0;
+  Frontend fe(config, 50, 40);
+  MeasurementCollector out;
+  fe.process(ev(1000, 10, 10, 1), out);
+  fe.process(ev(2000, 13, 10, 1), out);
+  fe.process(ev(2000, 50, 10, 1), out);   // x == width
+  fe.process(ev(2000, 10, 40, -1), out);  // y == height
+  fe.process(ev(1500, 11, 10, 1), out);   // 500 ns back: clamped
+  fe.process(ev(-5000, 12, 10, 1), out);  // far back: dropped
+  const FrontendStats& st = fe.stats();
+  EXPECT_EQ(st.events, 6u);
+  EXPECT_EQ(st.dropped_out_of_sensor, 2u);
+  EXPECT_EQ(st.clamped_time, 1u);
+  EXPECT_EQ(st.dropped_time_reversal, 1u);
+  EXPECT_EQ(fe.sae().latestAt(1, 11, 10), 2000);  // processed at the newest time
+  EXPECT_EQ(fe.sae().latestAt(1, 12, 10), kNever);
+}
+
+TEST(Frontend, PatchSearchKeepsFeaturesApart) {
+  const int w = 160, h = 120;
+  // Many small squares close together: features must stay min_distance apart.
+  std::vector<MovingSquare> squares;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 3; ++j) squares.push_back({30.0 + 22 * i, 25.0 + 22 * j, 10, 80, 30});
+  const auto events = simulateSquares(squares, w, h, 0.1);
+  FrontendConfig config;
+  Frontend fe(config, w, h);
+  MeasurementCollector out;
+  double closest = 1e9;
+  int64_t max_id = -1;
+  for (std::size_t k = 0; k < events.size(); ++k) {
+    fe.process(events[k], out);
+    if (k % 500 != 0) continue;
+    const auto features = fe.features();
+    for (std::size_t a = 0; a < features.size(); ++a) {
+      max_id = std::max(max_id, features[a].id);
+      for (std::size_t b = a + 1; b < features.size(); ++b)
+        closest = std::min<double>(closest, std::hypot(features[a].state.x - features[b].state.x,
+                                                       features[a].state.y - features[b].state.y));
+    }
+  }
+  EXPECT_GT(fe.stats().features_created, 3u);
+  EXPECT_GT(closest, config.collision_radius_px);
+  EXPECT_LE(fe.stats().max_active_features, config.max_features);
+  EXPECT_EQ(max_id + 1, static_cast<int64_t>(fe.stats().features_created) - 0);
+}
+
+TEST(Frontend, MaxFeaturesIsRespected) {
+  const int w = 200, h = 150;
+  std::vector<MovingSquare> squares;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 4; ++j) squares.push_back({25.0 + 32 * i, 22.0 + 28 * j, 12, 60, 20});
+  const auto events = simulateSquares(squares, w, h, 0.03);
+  FrontendConfig config;
+  config.max_features = 3;
+  Frontend fe(config, w, h);
+  MeasurementCollector out;
+  for (const Event& e : events) fe.process(e, out);
+  EXPECT_EQ(fe.stats().max_active_features, 3);
+}
+
+TEST(Frontend, UndistortionTableGivesNormalizedCoordinates) {
+  UndistortionTable<float> table(40, 30);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) table.set(x, y, (x - 20) / 100.f, (y - 15) / 100.f, !(x == 0 && y == 0));
+  Frontend fe(FrontendConfig{}, 40, 30, table);
+  float xn, yn;
+  ASSERT_TRUE(fe.normalize(25.5f, 10.25f, xn, yn));
+  EXPECT_NEAR(xn, 0.055f, 1e-6);
+  EXPECT_NEAR(yn, -0.0475f, 1e-6);
+  EXPECT_TRUE(fe.normalize(39.f, 29.f, xn, yn));
+  EXPECT_FALSE(fe.normalize(0.5f, 0.5f, xn, yn));  // touches the invalid entry
+  EXPECT_FALSE(fe.normalize(-1.f, 3.f, xn, yn));
+  EXPECT_THROW(Frontend(FrontendConfig{}, 41, 30, table), asynevo::Error);
+}
+
+}  // namespace
+}  // namespace asynevo::frontend
