@@ -157,7 +157,7 @@ TEST(Frontend, MaxFeaturesIsRespected) {
   std::vector<MovingSquare> squares;
   for (int i = 0; i < 5; ++i)
     for (int j = 0; j < 4; ++j) squares.push_back({25.0 + 32 * i, 22.0 + 28 * j, 12, 60, 20});
-  const auto events = simulateSquares(squares, w, h, 0.03);
+  const auto events = simulateSquares(squares, w, h, 0.06);
   FrontendConfig config;
   config.max_features = 3;
   Frontend fe(config, w, h);
