@@ -53,7 +53,9 @@ RotationFitResult fitCommonRotation(const std::vector<TrackMeasurement>& measure
               [](const TrackMeasurement* a, const TrackMeasurement* b) { return a->t_ns < b->t_ns; });
     tracks.push_back(std::move(track));
   }
-  if (tracks.empty()) throw std::invalid_argument("fitCommonRotation: no track with enough measurements");
+  if (tracks.size() < 2)
+    throw std::invalid_argument(
+        "fitCommonRotation: fewer than 2 tracks with enough measurements (the rotation is not determined)");
   result.t_ref_ns = t_min + (t_max - t_min) / 2;
   auto seconds = [&](int64_t t) { return static_cast<double>(t - result.t_ref_ns) * 1e-9; };
   for (Track& tr : tracks) tr.t0 = seconds(tr.m.front()->t_ns);

@@ -39,7 +39,7 @@ struct RotationFitResult {
 };
 
 /// Fits the rotation model to `measurements` (their normalized coordinates xn, yn are used); fx, fy
-/// express the residuals in pixels. Throws std::invalid_argument when no track is usable.
+/// express the residuals in pixels. Throws std::invalid_argument when fewer than 2 tracks are usable.
 RotationFitResult fitCommonRotation(const std::vector<TrackMeasurement>& measurements, double fx, double fy,
                                     const RotationFitOptions& options = {});
 
