@@ -53,10 +53,35 @@ void FrontendConfig::validate() const {
   requireRange("frontend.max_time_reversal_us", max_time_reversal_us, 0.0, 1e9);
 }
 
+void BackendConfig::validate() const {
+  requireRange("backend.knot_dt_ms", knot_dt_ms, 2.0, 1000.0);
+  if (q_c.size() != 6) throw ConfigError("configuration value backend.q_c must have 6 entries");
+  for (double q : q_c) requireRange("backend.q_c[i]", q, 1e-12, 1e12);
+  requireRange("backend.pixel_sigma", pixel_sigma, 1e-3, 100.0);
+  requireRange("backend.huber_px", huber_px, 1e-3, 1000.0);
+  requireRange("backend.outlier_px", outlier_px, 1e-3, 1e6);
+  requireRange("backend.min_track_measurements", min_track_measurements, 2, 100000);
+  requireRange("backend.min_parallax_deg", min_parallax_deg, 0.0, 90.0);
+  requireRange("backend.max_triangulation_px", max_triangulation_px, 1e-3, 1e6);
+  requireRange("backend.min_depth", min_depth, 0.0, 1e6);
+  requireRange("backend.window_min_knots", window_min_knots, 3, 10000);
+  requireRange("backend.window_max_knots", window_max_knots, window_min_knots, 10000);
+  requireRange("backend.marginalization_epsilon", marginalization_epsilon, 0.0, 1.0);
+  requireRange("backend.max_iterations", max_iterations, 1, 1000);
+  requireRange("backend.max_solver_time_s", max_solver_time_s, 1e-4, 1e4);
+  requireRange("backend.solver_threads", solver_threads, 1, 64);
+  requireRange("backend.init_min_parallax_px", init_min_parallax_px, 0.0, 1e4);
+  requireRange("backend.init_min_features", init_min_features, 8, 100000);
+  requireRange("backend.init_min_inliers", init_min_inliers, 8, 100000);
+  requireRange("backend.init_ransac_px", init_ransac_px, 1e-3, 100.0);
+  requireRange("backend.init_window_ms", init_window_ms, 10.0, 1e5);
+}
+
 void Config::validate() const {
   sensor.validate();
   input.validate();
   frontend.validate();
+  backend.validate();
 }
 
 }  // namespace asynevo

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "asynevo/core/config/backend_config.hpp"
 #include "asynevo/core/config/frontend_config.hpp"
 #include "asynevo/core/config/io_config.hpp"
 
@@ -14,12 +15,14 @@ struct Config {
   SensorConfig sensor;
   InputConfig input;
   FrontendConfig frontend;
+  BackendConfig backend;
 
   template <class V>
   void visit(V& v) {
     v.section("sensor", sensor);
     v.section("input", input);
     v.section("frontend", frontend);
+    v.section("backend", backend);
   }
   /// Throws ConfigError naming the first out-of-range value.
   void validate() const;

@@ -1,0 +1,70 @@
+#pragma once
+// Configuration of the continuous-time backend (DESIGN.md §4 Backend; docs/backend.md).
+
+#include <cstdint>
+#include <vector>
+
+namespace asynevo {
+
+struct BackendConfig {
+  // --- trajectory and prior ---
+  double knot_dt_ms = 30.0;  ///< knot spacing in event time
+  /// Power-spectral density of the WNOA prior, diagonal [tx ty tz rx ry rz]: (m/s²)²·s for
+  /// translation, (rad/s²)²·s for rotation. Monocular: translation units follow the map scale.
+  std::vector<double> q_c = {1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+
+  // --- measurements ---
+  double pixel_sigma = 1.0;     ///< measurement standard deviation in pixels
+  double huber_px = 2.0;        ///< Huber loss threshold in pixels
+  double outlier_px = 5.0;      ///< after a solve, measurements with larger reprojection error are removed
+
+  // --- triangulation of new trajectories ---
+  int min_track_measurements = 5;      ///< measurements needed before a trajectory is triangulated
+  double min_parallax_deg = 1.0;       ///< minimum angle between the first and last rays
+  double max_triangulation_px = 3.0;   ///< maximum reprojection error of a fresh triangulation
+  double min_depth = 0.05;             ///< minimum depth in map units (cheirality)
+
+  // --- window ---
+  int window_min_knots = 10;    ///< N_min: dynamic marginalization keeps at least this many knots
+  int window_max_knots = 40;    ///< N_max: past this the oldest knot is marginalized anyway
+  double marginalization_epsilon = 0.8;  ///< t_ε = (1 − ε) t_0 + ε t_N (paper Alg. 1: 0.8)
+
+  // --- solver ---
+  int max_iterations = 10;
+  double max_solver_time_s = 0.2;
+  int solver_threads = 1;       ///< Ceres threads; 1 keeps offline runs bit-for-bit deterministic
+
+  // --- initialization ---
+  double init_min_parallax_px = 20.0;  ///< median feature displacement (in pixels, rotation not removed)
+  int init_min_features = 30;          ///< features seen at both initialization times
+  int init_min_inliers = 25;           ///< five-point RANSAC inliers
+  double init_ransac_px = 1.0;         ///< RANSAC threshold in pixels
+  double init_window_ms = 300.0;       ///< span of the initialization window
+
+  template <class V>
+  void visit(V& v) {
+    v("knot_dt_ms", knot_dt_ms, "knot spacing in event time [ms] (20-50 ms; keep >= a few ms)");
+    v("q_c", q_c, "WNOA power-spectral density diagonal [tx ty tz rx ry rz]");
+    v("pixel_sigma", pixel_sigma, "measurement standard deviation [px]");
+    v("huber_px", huber_px, "Huber loss threshold on projection residuals [px]");
+    v("outlier_px", outlier_px, "after each solve, drop measurements with a larger reprojection error [px]");
+    v("min_track_measurements", min_track_measurements, "measurements before a trajectory is triangulated");
+    v("min_parallax_deg", min_parallax_deg, "minimum ray angle to triangulate a trajectory [deg]");
+    v("max_triangulation_px", max_triangulation_px, "maximum reprojection error of a new landmark [px]");
+    v("min_depth", min_depth, "minimum landmark depth (map units)");
+    v("window_min_knots", window_min_knots, "N_min: the window keeps at least this many knots");
+    v("window_max_knots", window_max_knots, "N_max: beyond this the oldest knot is marginalized anyway");
+    v("marginalization_epsilon", marginalization_epsilon, "t_eps = (1 - eps) t_0 + eps t_N (paper: 0.8)");
+    v("max_iterations", max_iterations, "Levenberg-Marquardt iterations per window solve");
+    v("max_solver_time_s", max_solver_time_s, "wall-time cap per window solve [s]");
+    v("solver_threads", solver_threads, "Ceres threads (1 = deterministic)");
+    v("init_min_parallax_px", init_min_parallax_px, "initialization: median feature displacement [px]");
+    v("init_min_features", init_min_features, "initialization: features seen at both times");
+    v("init_min_inliers", init_min_inliers, "initialization: five-point RANSAC inliers");
+    v("init_ransac_px", init_ransac_px, "initialization: RANSAC threshold [px]");
+    v("init_window_ms", init_window_ms, "initialization: longest span searched for parallax [ms]");
+  }
+  void validate() const;
+};
+
+}  // namespace asynevo
