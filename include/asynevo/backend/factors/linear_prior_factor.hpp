@@ -1,0 +1,61 @@
+#pragma once
+// Generic linear prior, the form a marginalization result takes in the problem (reference/backend.md
+// §7.1; docs/math/gp_backend.md §6):
+//   r(x) = r* + J* · (x ⊟ x̄),
+// with x̄ the stored linearization point of every block and ⊟ the exact inverse of the solver's
+// retraction: Log(T̄⁻¹T) for pose blocks (SE3Manifold), x − x̄ for Euclidean blocks. The Jacobian w.r.t.
+// a pose block's tangent at the current x is J*_block · J_r⁻¹(x ⊟ x̄) (exact, not the usual J*_block).
+//
+// Also builds (J*, r*) from a Schur-complemented system (H*, b*) (H* = J*ᵀJ*, b* = J*ᵀr*, cost
+// ½δᵀH*δ + b*ᵀδ + const) with a relative eigenvalue threshold.
+
+#include <ceres/cost_function.h>
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace asynevo::backend {
+
+/// One parameter block of a linear prior.
+struct LinearPriorBlock {
+  enum class Kind { kPose, kEuclidean };
+  Kind kind = Kind::kEuclidean;
+  /// Linearization point x̄ (7 values [t; q_xyzw] for a pose, else the Euclidean value).
+  std::vector<double> linearization_point;
+
+  int ambientSize() const { return static_cast<int>(linearization_point.size()); }
+  int tangentSize() const { return kind == Kind::kPose ? 6 : ambientSize(); }
+};
+
+/// J* and r* of a linear prior, with the numerical rank kept.
+struct LinearPriorSqrt {
+  Eigen::MatrixXd J;  // rank × n
+  Eigen::VectorXd r;  // rank
+  int rank = 0;
+};
+
+/// Square-root form of the quadratic ½δᵀHδ + bᵀδ: H = V S Vᵀ, keep eigenvalues s > rel_threshold·s_max,
+/// J* = S^{1/2}Vᵀ, r* = S^{−1/2}Vᵀb (VINS-style eigen square root, relative threshold).
+LinearPriorSqrt linearPriorFromInformation(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
+                                           double rel_threshold = 1e-12);
+
+class LinearPriorFactor final : public ceres::CostFunction {
+ public:
+  /// J has as many columns as the sum of the blocks' tangent sizes (in block order), r as many rows
+  /// as J. The blocks' ambient sizes define the parameter block sizes.
+  LinearPriorFactor(std::vector<LinearPriorBlock> blocks, Eigen::MatrixXd J, Eigen::VectorXd r);
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
+
+  const std::vector<LinearPriorBlock>& blocks() const { return blocks_; }
+  const Eigen::MatrixXd& jacobian() const { return J_; }
+  const Eigen::VectorXd& residual() const { return r_; }
+
+ private:
+  std::vector<LinearPriorBlock> blocks_;
+  std::vector<int> tangent_offsets_;
+  Eigen::MatrixXd J_;
+  Eigen::VectorXd r_;
+};
+
+}  // namespace asynevo::backend

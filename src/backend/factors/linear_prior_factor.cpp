@@ -1,0 +1,82 @@
+#include "asynevo/backend/factors/linear_prior_factor.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <stdexcept>
+#include <utility>
+
+#include "asynevo/backend/factors/pose_block.hpp"
+#include "asynevo/lie/se3.hpp"
+
+namespace asynevo::backend {
+
+LinearPriorSqrt linearPriorFromInformation(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
+                                           double rel_threshold) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (H + H.transpose()));
+  const Eigen::VectorXd& s = eig.eigenvalues();  // ascending
+  const double s_max = s.size() > 0 ? s.maxCoeff() : 0.0;
+  LinearPriorSqrt out;
+  if (!(s_max > 0.0)) {
+    out.J.resize(0, H.cols());
+    out.r.resize(0);
+    return out;
+  }
+  const double cut = rel_threshold * s_max;
+  int first = 0;
+  while (first < s.size() && s[first] <= cut) ++first;
+  out.rank = static_cast<int>(s.size()) - first;
+  const Eigen::MatrixXd V = eig.eigenvectors().rightCols(out.rank);
+  const Eigen::VectorXd sv = s.tail(out.rank);
+  out.J = sv.cwiseSqrt().asDiagonal() * V.transpose();
+  out.r = sv.cwiseSqrt().cwiseInverse().asDiagonal() * (V.transpose() * b);
+  return out;
+}
+
+LinearPriorFactor::LinearPriorFactor(std::vector<LinearPriorBlock> blocks, Eigen::MatrixXd J,
+                                     Eigen::VectorXd r)
+    : blocks_(std::move(blocks)), J_(std::move(J)), r_(std::move(r)) {
+  int offset = 0;
+  for (const LinearPriorBlock& block : blocks_) {
+    if (block.kind == LinearPriorBlock::Kind::kPose && block.ambientSize() != kPoseSize) {
+      throw std::invalid_argument("LinearPriorFactor: a pose block needs a 7-value linearization point");
+    }
+    tangent_offsets_.push_back(offset);
+    offset += block.tangentSize();
+    mutable_parameter_block_sizes()->push_back(block.ambientSize());
+  }
+  if (J_.cols() != offset || J_.rows() != r_.size()) {
+    throw std::invalid_argument("LinearPriorFactor: J must be (r.size() × total tangent size)");
+  }
+  set_num_residuals(static_cast<int>(r_.size()));
+}
+
+bool LinearPriorFactor::Evaluate(double const* const* parameters, double* residuals,
+                                 double** jacobians) const {
+  const int m = static_cast<int>(r_.size());
+  Eigen::Map<Eigen::VectorXd> res(residuals, m);
+  res = r_;
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  for (size_t i = 0; i < blocks_.size(); ++i) {
+    const LinearPriorBlock& block = blocks_[i];
+    const int offset = tangent_offsets_[i];
+    const int n = block.tangentSize();
+    double* jac = jacobians != nullptr ? jacobians[i] : nullptr;
+    if (block.kind == LinearPriorBlock::Kind::kPose) {
+      const lie::Vec6 dx =
+          lie::se3::boxMinus(poseFromBlock(parameters[i]), poseFromBlock(block.linearization_point.data()));
+      res.noalias() += J_.middleCols<6>(offset) * dx;
+      if (jac != nullptr) {
+        Eigen::Map<RowMajor> J(jac, m, kPoseSize);
+        J.leftCols<6>() = J_.middleCols<6>(offset) * lie::se3::rightJacobianInverse(dx);
+        J.col(6).setZero();
+      }
+    } else {
+      const Eigen::Map<const Eigen::VectorXd> x(parameters[i], n);
+      const Eigen::Map<const Eigen::VectorXd> x_bar(block.linearization_point.data(), n);
+      res.noalias() += J_.middleCols(offset, n) * (x - x_bar);
+      if (jac != nullptr) Eigen::Map<RowMajor>{jac, m, n} = J_.middleCols(offset, n);
+    }
+  }
+  return true;
+}
+
+}  // namespace asynevo::backend

@@ -1,0 +1,110 @@
+#include "asynevo/backend/marginalization.hpp"
+
+#include <Eigen/Dense>
+#include <stdexcept>
+
+namespace asynevo::backend {
+
+namespace {
+
+struct BlockSlot {
+  double* block;
+  BlockKind kind;
+  int ambient;
+  int tangent;
+  int offset = 0;
+};
+
+}  // namespace
+
+MarginalizationResult marginalize(const std::vector<const FactorEntry*>& factors, const std::set<double*>& marginalized,
+                                  const std::map<double*, BlockKind>& kinds, double relative_threshold) {
+  MarginalizationResult result;
+  // Blocks in first-seen order (deterministic for a deterministic factor list), marginalized ones first.
+  std::vector<BlockSlot> m_blocks, r_blocks;
+  std::map<double*, std::pair<bool, int>> index;  // block -> (is marginalized, position)
+  for (const FactorEntry* f : factors) {
+    const auto& sizes = f->cost->parameter_block_sizes();
+    for (std::size_t i = 0; i < f->blocks.size(); ++i) {
+      double* b = f->blocks[i];
+      if (index.count(b)) continue;
+      const auto kind_it = kinds.find(b);
+      if (kind_it == kinds.end()) throw std::logic_error("marginalize: a factor block has no registered kind");
+      BlockSlot slot{b, kind_it->second, sizes[i], tangentSize(kind_it->second, sizes[i])};
+      const bool is_m = marginalized.count(b) > 0;
+      auto& list = is_m ? m_blocks : r_blocks;
+      index[b] = {is_m, static_cast<int>(list.size())};
+      list.push_back(slot);
+    }
+  }
+  int dims = 0;
+  for (auto& s : m_blocks) (s.offset = dims, dims += s.tangent);
+  result.marginalized_dims = dims;
+  for (auto& s : r_blocks) (s.offset = dims, dims += s.tangent);
+  result.kept_dims = dims - result.marginalized_dims;
+
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(dims, dims);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(dims);
+  for (const FactorEntry* f : factors) {
+    std::vector<BlockKind> block_kinds;
+    std::vector<int> offsets;
+    for (double* blk : f->blocks) {
+      const auto [is_m, pos] = index[blk];
+      const BlockSlot& s = is_m ? m_blocks[pos] : r_blocks[pos];
+      block_kinds.push_back(s.kind);
+      offsets.push_back(s.offset);
+    }
+    const LinearizedFactor lin = linearize(*f, block_kinds);
+    ++result.factors;
+    if (!lin.valid) {
+      ++result.invalid_factors;
+      continue;
+    }
+    for (std::size_t i = 0; i < lin.J.size(); ++i) {
+      const int ni = static_cast<int>(lin.J[i].cols());
+      b.segment(offsets[i], ni) += lin.J[i].transpose() * lin.r;
+      for (std::size_t j = 0; j < lin.J.size(); ++j) {
+        H.block(offsets[i], offsets[j], ni, lin.J[j].cols()) += lin.J[i].transpose() * lin.J[j];
+      }
+    }
+  }
+
+  const int nm = result.marginalized_dims;
+  const int nr = result.kept_dims;
+  if (nr == 0) return result;
+  Eigen::MatrixXd H_star = H.bottomRightCorner(nr, nr);
+  Eigen::VectorXd b_star = b.tail(nr);
+  if (nm > 0) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(0.5 * (H.topLeftCorner(nm, nm) + H.topLeftCorner(nm, nm).transpose()));
+    const Eigen::VectorXd& s = eigen.eigenvalues();
+    const double cut = relative_threshold * std::max(s.maxCoeff(), 0.0);
+    Eigen::VectorXd s_inv = Eigen::VectorXd::Zero(nm);
+    for (int i = 0; i < nm; ++i) {
+      if (s(i) > cut && s(i) > 0) {
+        s_inv(i) = 1.0 / s(i);
+        ++result.rank_mm;
+      }
+    }
+    const Eigen::MatrixXd H_mm_pinv = eigen.eigenvectors() * s_inv.asDiagonal() * eigen.eigenvectors().transpose();
+    const Eigen::MatrixXd H_rm = H.bottomLeftCorner(nr, nm);
+    H_star -= H_rm * H_mm_pinv * H_rm.transpose();
+    b_star -= H_rm * H_mm_pinv * b.head(nm);
+  }
+  H_star = 0.5 * (H_star + H_star.transpose());
+  const LinearPriorSqrt sqrt_form = linearPriorFromInformation(H_star, b_star, relative_threshold);
+  result.prior_rank = sqrt_form.rank;
+  if (sqrt_form.rank == 0) return result;  // nothing informative is left about the blanket
+
+  std::vector<LinearPriorBlock> prior_blocks;
+  for (const BlockSlot& s : r_blocks) {
+    LinearPriorBlock block;
+    block.kind = s.kind == BlockKind::kPose ? LinearPriorBlock::Kind::kPose : LinearPriorBlock::Kind::kEuclidean;
+    block.linearization_point.assign(s.block, s.block + s.ambient);
+    prior_blocks.push_back(std::move(block));
+    result.prior_blocks.push_back(s.block);
+  }
+  result.prior = std::make_shared<LinearPriorFactor>(std::move(prior_blocks), sqrt_form.J, sqrt_form.r);
+  return result;
+}
+
+}  // namespace asynevo::backend

@@ -1,0 +1,271 @@
+#include <ceres/loss_function.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "asynevo/backend/factors/gp_projection_factor.hpp"
+#include "asynevo/backend/factors/linear_prior_factor.hpp"
+#include "asynevo/backend/factors/pose_block.hpp"
+#include "asynevo/backend/factors/se3_manifold.hpp"
+#include "asynevo/backend/factors/state_prior_factor.hpp"
+#include "asynevo/backend/factors/wnoa_prior_factor.hpp"
+#include "testing/jacobian_check.hpp"
+
+namespace asynevo::backend {
+namespace {
+
+using lie::SE3;
+using lie::Vec6;
+using testing::checkJacobians;
+
+Vec6 randomVec6(std::mt19937& rng, double scale) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  Vec6 v;
+  for (int i = 0; i < 6; ++i) v[i] = n(rng);
+  return scale * v / v.norm();
+}
+
+std::vector<double> poseBlock(const SE3& T) {
+  std::vector<double> x(7);
+  poseToBlock(T, x.data());
+  return x;
+}
+
+std::vector<double> vecBlock(const Vec6& v) { return {v.data(), v.data() + 6}; }
+
+TEST(Se3Manifold, PlusIsRightMultiplicationByExpAndMinusInvertsIt) {
+  std::mt19937 rng(1);
+  const SE3Manifold manifold;
+  const SE3 T = lie::se3::exp(randomVec6(rng, 2.0));
+  const std::vector<double> x = poseBlock(T);
+  for (double size : {1e-9, 1e-3, 0.5, 2.5}) {
+    const Vec6 delta = randomVec6(rng, size);
+    std::array<double, 7> y{};
+    ASSERT_TRUE(manifold.Plus(x.data(), delta.data(), y.data()));
+    const SE3 expected = T * lie::se3::exp(delta);
+    EXPECT_LT((poseFromBlock(y.data()).matrix() - expected.matrix()).norm(), 1e-14) << size;
+    EXPECT_NEAR(Eigen::Map<const Eigen::Vector4d>(y.data() + 3).norm(), 1.0, 1e-15);
+    Vec6 back;
+    ASSERT_TRUE(manifold.Minus(y.data(), x.data(), back.data()));
+    EXPECT_LT((back - delta).norm(), 1e-13) << size;
+  }
+  // Minus is insensitive to the quaternion double cover.
+  std::vector<double> x_neg = x;
+  for (int i = 3; i < 7; ++i) x_neg[i] = -x_neg[i];
+  Vec6 zero;
+  ASSERT_TRUE(manifold.Minus(x_neg.data(), x.data(), zero.data()));
+  EXPECT_LT(zero.norm(), 1e-15);
+  // Tangent-Jacobian convention.
+  Eigen::Matrix<double, 7, 6, Eigen::RowMajor> plus_jacobian;
+  Eigen::Matrix<double, 6, 7, Eigen::RowMajor> minus_jacobian;
+  manifold.PlusJacobian(x.data(), plus_jacobian.data());
+  manifold.MinusJacobian(x.data(), minus_jacobian.data());
+  EXPECT_EQ((minus_jacobian * plus_jacobian - lie::Mat6::Identity()).norm(), 0.0);
+}
+
+struct KnotPair {
+  SE3 T_k, T_k1;
+  Vec6 w_k, w_k1;
+  double dt;
+};
+
+KnotPair randomKnotPair(std::mt19937& rng, double xi_norm, double dt = 0.1) {
+  KnotPair p;
+  p.dt = dt;
+  p.T_k = lie::se3::exp(randomVec6(rng, 1.0));
+  const Vec6 xi = randomVec6(rng, xi_norm);
+  p.T_k1 = p.T_k * lie::se3::exp(xi);
+  p.w_k = xi / dt + randomVec6(rng, 0.3 * xi_norm / dt);
+  p.w_k1 = xi / dt + randomVec6(rng, 0.3 * xi_norm / dt);
+  return p;
+}
+
+TEST(WnoaPriorFactor, WhitenedResidualAndJacobians) {
+  std::mt19937 rng(2);
+  const SE3Manifold se3;
+  Vec6 q;
+  q << 0.5, 0.5, 0.5, 0.2, 0.2, 0.2;
+  const lie::Mat6 Q_c = q.asDiagonal();
+  for (double xi_norm : {0.01, 0.1, 0.3}) {
+    const KnotPair p = randomKnotPair(rng, xi_norm);
+    const WnoaPriorFactor factor(p.dt, Q_c);
+    const std::vector<std::vector<double>> values = {poseBlock(p.T_k), vecBlock(p.w_k), poseBlock(p.T_k1),
+                                                     vecBlock(p.w_k1)};
+    // ‖r‖² = eᵀ Q(Δt)⁻¹ e.
+    gp::Vec12 r;
+    const double* params[] = {values[0].data(), values[1].data(), values[2].data(), values[3].data()};
+    ASSERT_TRUE(factor.Evaluate(params, r.data(), nullptr));
+    const gp::Vec12 e = gp::priorError(p.T_k, p.w_k, p.T_k1, p.w_k1, p.dt);
+    const double cost = e.dot(gp::information(p.dt, Q_c.inverse()) * e);
+    EXPECT_NEAR(r.squaredNorm(), cost, 1e-12 * cost);
+
+    const auto result = checkJacobians(factor, values, {&se3, nullptr, &se3, nullptr});
+    ASSERT_TRUE(result.evaluated);
+    // Relative to the whitening scale (entries of L reach √12 Δt^{-3/2} q^{-1/2} ≈ 150); the series
+    // error of M (prior Jacobian table, reference/backend.md §2) dominates at ‖ξ‖ = 0.3.
+    const double tol = xi_norm <= 0.1 ? 1e-6 : 1e-3;
+    for (size_t i = 0; i < 4; ++i) {
+      EXPECT_LT(result.max_abs_error[i], tol * result.max_abs_numeric[i]) << "|xi| " << xi_norm << "\n"
+                                                                          << result.report();
+    }
+    std::printf("WnoaPriorFactor |xi| = %.2f:\n%s", xi_norm, result.report().c_str());
+  }
+}
+
+TEST(WnoaPriorFactor, ZeroOnConstantVelocity) {
+  std::mt19937 rng(3);
+  const Vec6 w = randomVec6(rng, 2.0);
+  const SE3 T_k = lie::se3::exp(randomVec6(rng, 1.0));
+  const SE3 T_k1 = T_k * lie::se3::exp(0.05 * w);
+  const WnoaPriorFactor factor(int64_t{1'000'000'000}, int64_t{1'050'000'000}, lie::Mat6::Identity());
+  EXPECT_DOUBLE_EQ(factor.dt(), 0.05);
+  const std::vector<double> a = poseBlock(T_k), b = vecBlock(w), c = poseBlock(T_k1);
+  const double* params[] = {a.data(), b.data(), c.data(), b.data()};
+  gp::Vec12 r;
+  ASSERT_TRUE(factor.Evaluate(params, r.data(), nullptr));
+  EXPECT_LT(r.norm(), 1e-11);
+}
+
+TEST(GpProjectionFactor, ResidualIsZeroAtTheInterpolatedTruthAndJacobiansMatch) {
+  std::mt19937 rng(4);
+  const SE3Manifold se3;
+  for (double xi_norm : {0.01, 0.1, 0.3}) {
+    for (double s : {0.0, 0.4, 1.0}) {
+      const KnotPair p = randomKnotPair(rng, xi_norm);
+      const gp::InterpolationWeights weights = gp::interpolationWeights(s * p.dt, p.dt);
+      const gp::PoseInterpolator interp(p.T_k, p.w_k, p.T_k1, p.w_k1, weights, false);
+      const Eigen::Vector3d p_c(0.3, -0.2, 3.0);
+      const Eigen::Vector3d p_w = interp.pose() * p_c;
+      const Eigen::Vector2d z = p_c.head<2>() / p_c.z();
+      const double sigma = 1.0 / 300.0;
+      const GpProjectionFactor factor(z, weights, sigma);
+      const std::vector<std::vector<double>> values = {poseBlock(p.T_k),
+                                                       vecBlock(p.w_k),
+                                                       poseBlock(p.T_k1),
+                                                       vecBlock(p.w_k1),
+                                                       {p_w.x(), p_w.y(), p_w.z()}};
+      const double* params[] = {values[0].data(), values[1].data(), values[2].data(), values[3].data(),
+                                values[4].data()};
+      Eigen::Vector2d r;
+      ASSERT_TRUE(factor.Evaluate(params, r.data(), nullptr));
+      EXPECT_LT(r.norm(), 1e-9);
+
+      // Off the truth too (the landmark moved), so the residual is not zero.
+      std::vector<std::vector<double>> off = values;
+      off[4] = {p_w.x() + 0.1, p_w.y() - 0.05, p_w.z() + 0.2};
+      const std::vector<std::vector<double>>* cases[] = {&values, &off};
+      for (const auto* v : cases) {
+        const auto result = checkJacobians(factor, *v, {&se3, nullptr, &se3, nullptr, nullptr});
+        ASSERT_TRUE(result.evaluated);
+        for (size_t i = 0; i < 5; ++i) {
+          // 1e-6 relative at ‖ξ‖ ≤ 0.1 (issue 5); at 0.3 the second-order M error (≈1e-5 relative).
+          const double tol = xi_norm <= 0.1 ? 1e-6 : 5e-5;
+          EXPECT_LT(result.max_abs_error[i], tol * std::max(1.0, result.max_abs_numeric[i]))
+              << "|xi| " << xi_norm << " s " << s << "\n"
+              << result.report();
+        }
+      }
+    }
+  }
+}
+
+TEST(GpProjectionFactor, FailsBehindTheCamera) {
+  const gp::InterpolationWeights weights = gp::interpolationWeights(0.01, 0.05);
+  const GpProjectionFactor factor(Eigen::Vector2d(0.1, 0.1), weights, 0.01);
+  const std::vector<double> pose = poseBlock(SE3()), vel(6, 0.0), behind = {0.0, 0.0, -1.0},
+                            front = {0.0, 0.0, 1.0};
+  const double* params_behind[] = {pose.data(), vel.data(), pose.data(), vel.data(), behind.data()};
+  const double* params_front[] = {pose.data(), vel.data(), pose.data(), vel.data(), front.data()};
+  Eigen::Vector2d r;
+  EXPECT_FALSE(factor.Evaluate(params_behind, r.data(), nullptr));
+  EXPECT_TRUE(factor.Evaluate(params_front, r.data(), nullptr));
+  EXPECT_NEAR(r.x(), -10.0, 1e-12);
+}
+
+TEST(StatePriorFactor, ResidualAndJacobians) {
+  std::mt19937 rng(5);
+  const SE3Manifold se3;
+  const SE3 T_prior = lie::se3::exp(randomVec6(rng, 1.0));
+  const Vec6 w_prior = randomVec6(rng, 0.5);
+  gp::Mat12 A = gp::Mat12::Random();
+  const gp::Mat12 P = A * A.transpose() * 1e-3 + 1e-4 * gp::Mat12::Identity();
+  const StatePriorFactor factor(T_prior, w_prior, P);
+  // At the prior mean the residual is zero.
+  {
+    const std::vector<double> a = poseBlock(T_prior), b = vecBlock(w_prior);
+    const double* params[] = {a.data(), b.data()};
+    gp::Vec12 r;
+    ASSERT_TRUE(factor.Evaluate(params, r.data(), nullptr));
+    EXPECT_LT(r.norm(), 1e-10);
+    EXPECT_LT((factor.sqrtInformation().transpose() * factor.sqrtInformation() * P - gp::Mat12::Identity())
+                  .cwiseAbs()
+                  .maxCoeff(),
+              1e-9);
+  }
+  const std::vector<std::vector<double>> values = {poseBlock(T_prior * lie::se3::exp(randomVec6(rng, 0.4))),
+                                                   vecBlock(w_prior + randomVec6(rng, 0.1))};
+  const auto result = checkJacobians(factor, values, {&se3, nullptr});
+  ASSERT_TRUE(result.evaluated);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_LT(result.max_abs_error[i], 1e-8 * result.max_abs_numeric[i]) << result.report();
+  }
+}
+
+TEST(LinearPriorFactor, SquareRootOfARankDeficientInformation) {
+  std::mt19937 rng(6);
+  std::normal_distribution<double> n(0.0, 1.0);
+  // H = AᵀA with rank 9 out of 12 and b in its range.
+  Eigen::MatrixXd A(9, 12);
+  for (int i = 0; i < A.size(); ++i) A(i) = n(rng);
+  const Eigen::MatrixXd H = A.transpose() * A;
+  Eigen::VectorXd y(9);
+  for (int i = 0; i < 9; ++i) y[i] = n(rng);
+  const Eigen::VectorXd b = A.transpose() * y;
+  const LinearPriorSqrt prior = linearPriorFromInformation(H, b);
+  EXPECT_EQ(prior.rank, 9);
+  EXPECT_LT((prior.J.transpose() * prior.J - H).cwiseAbs().maxCoeff(), 1e-11 * H.cwiseAbs().maxCoeff());
+  EXPECT_LT((prior.J.transpose() * prior.r - b).cwiseAbs().maxCoeff(), 1e-11 * b.cwiseAbs().maxCoeff());
+}
+
+TEST(LinearPriorFactor, ResidualAndJacobiansOnPoseAndEuclideanBlocks) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const SE3Manifold se3;
+  const SE3 T_bar = lie::se3::exp(randomVec6(rng, 1.0));
+  const Vec6 w_bar = randomVec6(rng, 0.5);
+  std::vector<LinearPriorBlock> blocks(2);
+  blocks[0].kind = LinearPriorBlock::Kind::kPose;
+  blocks[0].linearization_point = poseBlock(T_bar);
+  blocks[1].linearization_point = vecBlock(w_bar);
+  Eigen::MatrixXd J(10, 12);
+  for (int i = 0; i < J.size(); ++i) J(i) = n(rng);
+  Eigen::VectorXd r(10);
+  for (int i = 0; i < 10; ++i) r[i] = n(rng);
+  const LinearPriorFactor factor(blocks, J, r);
+  ASSERT_EQ(factor.num_residuals(), 10);
+  ASSERT_EQ(factor.parameter_block_sizes(), (std::vector<int32_t>{7, 6}));
+
+  // r(x) = r* + J*(x ⊟ x̄).
+  const Vec6 d_pose = randomVec6(rng, 0.3);
+  const Vec6 d_vel = randomVec6(rng, 0.2);
+  const std::vector<std::vector<double>> values = {poseBlock(T_bar * lie::se3::exp(d_pose)),
+                                                   vecBlock(w_bar + d_vel)};
+  const double* params[] = {values[0].data(), values[1].data()};
+  Eigen::VectorXd res(10);
+  ASSERT_TRUE(factor.Evaluate(params, res.data(), nullptr));
+  Eigen::VectorXd dx(12);
+  dx << d_pose, d_vel;
+  EXPECT_LT((res - (r + J * dx)).norm(), 1e-12);
+
+  const auto result = checkJacobians(factor, values, {&se3, nullptr});
+  ASSERT_TRUE(result.evaluated);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_LT(result.max_abs_error[i], 1e-8 * result.max_abs_numeric[i]) << result.report();
+  }
+}
+
+}  // namespace
+}  // namespace asynevo::backend
