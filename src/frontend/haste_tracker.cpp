@@ -194,27 +194,32 @@ TrackerResult HasteTracker::pushInRange(int64_t t_ns, float x, float y) {
 // ---- HasteDifference* ----------------------------------------------------------------------------
 
 HasteDifferenceStar::HasteDifferenceStar(const HasteParams& params)
-    : HasteTracker(params), diff_(kHypotheses) {}
+    : HasteTracker(params), diff_(static_cast<std::size_t>(kPatchCells) * kHypotheses) {}
 
 void HasteDifferenceStar::rebuildScores() {
-  for (int h = 0; h < kHypotheses; ++h) {
-    Patch& d = diff_[h];
-    d = normalized_;
-    for (int i = 0; i < count_; ++i) {
-      const WindowEvent& e = windowEvent(i);
-      float xp, yp;
+  for (int c = 0; c < kPatchCells; ++c)
+    std::fill_n(&diff_[static_cast<std::size_t>(c) * kHypotheses], kHypotheses, normalized_[c]);
+  for (int i = 0; i < count_; ++i) {
+    const WindowEvent& e = windowEvent(i);
+    for (int h = 0; h < kHypotheses; ++h) {
+      float xp, yp, w[4];
+      int base;
       toPatch(hyps_[h], e.x, e.y, xp, yp);
-      splat(d, xp, yp, -kInvWindow);
+      if (!stencil(xp, yp, base, w)) continue;
+      for (int k = 0; k < 4; ++k) diff_[static_cast<std::size_t>(base + kStencilOffset[k]) * kHypotheses + h] -= w[k] * kInvWindow;
     }
-    double sum = 0;
-    for (float v : d) sum += double(v) * double(v);
-    scores_[h] = -sum;
   }
+  std::array<double, kHypotheses> sums{};
+  for (int c = 0; c < kPatchCells; ++c) {
+    const float* d = &diff_[static_cast<std::size_t>(c) * kHypotheses];
+    for (int h = 0; h < kHypotheses; ++h) sums[h] += double(d[h]) * double(d[h]);
+  }
+  for (int h = 0; h < kHypotheses; ++h) scores_[h] = -sums[h];
 }
 
 void HasteDifferenceStar::updateScores(const WindowEvent& added, const WindowEvent& evicted) {
+  float* const diff = diff_.data();
   for (int h = 0; h < kHypotheses; ++h) {
-    Patch& d = diff_[h];
     double delta = 0;  // change of -sum(D^2), from the stored float values so it stays consistent
     int base;
     float w[4];
@@ -222,7 +227,7 @@ void HasteDifferenceStar::updateScores(const WindowEvent& added, const WindowEve
     toPatch(hyps_[h], added.x, added.y, xp, yp);
     if (stencil(xp, yp, base, w)) {
       for (int k = 0; k < 4; ++k) {
-        float& v = d[base + kStencilOffset[k]];
+        float& v = diff[static_cast<std::size_t>(base + kStencilOffset[k]) * kHypotheses + h];
         const float before = v;
         v = before - w[k] * kInvWindow;
         delta += double(before) * double(before) - double(v) * double(v);
@@ -231,7 +236,7 @@ void HasteDifferenceStar::updateScores(const WindowEvent& added, const WindowEve
     toPatch(hyps_[h], evicted.x, evicted.y, xp, yp);
     if (stencil(xp, yp, base, w)) {
       for (int k = 0; k < 4; ++k) {
-        float& v = d[base + kStencilOffset[k]];
+        float& v = diff[static_cast<std::size_t>(base + kStencilOffset[k]) * kHypotheses + h];
         const float before = v;
         v = before + w[k] * kInvWindow;
         delta += double(before) * double(before) - double(v) * double(v);

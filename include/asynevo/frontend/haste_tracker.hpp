@@ -154,19 +154,20 @@ class HasteTracker {
 };
 
 /// HasteDifference*: keeps the 11 difference patches D_h = That - M_h and updates the squared
-/// norms of the 2x2 blocks an added or evicted event touches.
+/// norms of the 2x2 blocks an added or evicted event touches. The patches are stored interleaved,
+/// [cell][hypothesis], so the 11 stencils of one event (at most 1 px apart) share cache lines.
 class HasteDifferenceStar final : public HasteTracker {
  public:
   explicit HasteDifferenceStar(const HasteParams& params);
-  /// Difference patch of hypothesis h (for tests).
-  const Patch& difference(int h) const { return diff_[h]; }
+  /// Entry of the difference patch of hypothesis h (for tests).
+  float difference(int h, int cell) const { return diff_[static_cast<std::size_t>(cell) * kHypotheses + h]; }
 
  protected:
   void rebuildScores() override;
   void updateScores(const WindowEvent& added, const WindowEvent& evicted) override;
 
  private:
-  std::vector<Patch> diff_;  ///< kHypotheses patches, allocated once
+  std::vector<float> diff_;  ///< kPatchCells x kHypotheses, allocated once
 };
 
 /// HasteCorrelation*: mean bilinear sample of the frozen normalized template at the window events.

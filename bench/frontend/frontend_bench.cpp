@@ -1,0 +1,167 @@
+// Per-event cost of each frontend stage and of the whole frontend, on the bundled ECD slices and on a
+// long synthetic stream (synthetic_stream.hpp). Figures are printed, never asserted.
+//   bench_frontend [--benchmark_filter=...]
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "asynevo/core/config/frontend_config.hpp"
+#include "asynevo/frontend/corner_detector.hpp"
+#include "asynevo/frontend/frontend.hpp"
+#include "asynevo/frontend/haste_tracker.hpp"
+#include "asynevo/frontend/sae.hpp"
+#include "asynevo/io/calibration_io.hpp"
+#include "asynevo/io/event_reader.hpp"
+#include "synthetic_stream.hpp"
+
+using namespace asynevo;
+using namespace asynevo::frontend;
+
+namespace {
+
+const std::vector<Event>& slice(const std::string& name) {
+  static std::map<std::string, std::vector<Event>> cache;
+  auto it = cache.find(name);
+  if (it == cache.end())
+    it = cache.emplace(name, readAllEvents(std::string(ASYNEVO_SOURCE_DIR) + "/tests/data/ecd/" + name + "/events.txt"))
+             .first;
+  return it->second;
+}
+
+const std::vector<Event>& synthetic() {
+  // 1.5 s, ~2-3 M events/s of event time.
+  static const std::vector<Event> events = bench::syntheticStream(240, 180, 1.5, 500.0);
+  return events;
+}
+
+const std::vector<Event>& stream(int index) {
+  static const char* names[] = {"shapes_rotation", "poster_rotation", "boxes_rotation", "dynamic_rotation"};
+  return index < 4 ? slice(names[index]) : synthetic();
+}
+const char* streamName(int index) {
+  static const char* names[] = {"shapes_rotation", "poster_rotation", "boxes_rotation", "dynamic_rotation",
+                                "synthetic"};
+  return names[index];
+}
+
+void setCounters(benchmark::State& state, std::size_t events_per_iteration) {
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * events_per_iteration));
+  state.counters["ns/event"] = benchmark::Counter(static_cast<double>(state.iterations() * events_per_iteration),
+                                                  benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+void BM_SaeUpdate(benchmark::State& state) {
+  const auto& events = stream(static_cast<int>(state.range(0)));
+  SurfaceOfActiveEvents sae(240, 180, 50'000'000);
+  int accepted = 0;
+  for (auto _ : state) {
+    for (const Event& e : events) accepted += sae.update(e);
+    benchmark::DoNotOptimize(accepted);
+  }
+  state.SetLabel(streamName(static_cast<int>(state.range(0))));
+  setCounters(state, events.size());
+}
+
+void detectorBench(benchmark::State& state, DetectorKind kind) {
+  const auto& events = stream(static_cast<int>(state.range(0)));
+  DetectorParams params;
+  params.kind = kind;
+  uint64_t corners = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    SurfaceOfActiveEvents sae(240, 180, 50'000'000);
+    CornerDetector det(sae, params);
+    state.ResumeTiming();
+    for (const Event& e : events) corners += det.detect(e, sae.update(e)).corner;
+  }
+  state.SetLabel(streamName(static_cast<int>(state.range(0))));
+  state.counters["corner %"] = 100.0 * static_cast<double>(corners) / static_cast<double>(state.iterations() * events.size());
+  setCounters(state, events.size());
+}
+void BM_SaeAndFaHarris(benchmark::State& state) { detectorBench(state, DetectorKind::kFaHarris); }
+void BM_SaeAndArcStar(benchmark::State& state) { detectorBench(state, DetectorKind::kArcStar); }
+
+// One tracker fed only in-range events (an L corner moving slowly): cost per in-range event.
+void hasteBench(benchmark::State& state, HasteVariant variant) {
+  std::vector<Event> events;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> along(0.f, 14.f);
+  for (int i = 0; i < 200000; ++i) {
+    const double t = i * 5e-6;
+    const float cx = 100.f + 3.f * std::sin(float(t) * 6.f), cy = 90.f + 3.f * std::cos(float(t) * 5.f);
+    const float a = along(rng);
+    const bool h = rng() & 1u;
+    events.push_back(Event{int64_t(t * 1e9), uint16_t(std::lround(cx + (h ? a : 0.f))),
+                           uint16_t(std::lround(cy + (h ? 0.f : a))), 1});
+  }
+  HasteParams params;
+  params.variant = variant;
+  auto tracker = makeHasteTracker(params);
+  uint64_t changes = 0, used = 0;
+  for (auto _ : state) {
+    tracker->reset(0, 103.f, 93.f);
+    for (const Event& e : events) {
+      const TrackerResult r = tracker->push(e.t_ns, e.x, e.y);
+      changes += r == TrackerResult::kStateChanged;
+      used += r != TrackerResult::kOutOfRange;
+    }
+  }
+  state.counters["in-range %"] = 100.0 * static_cast<double>(used) / static_cast<double>(state.iterations() * events.size());
+  state.counters["switch %"] = 100.0 * static_cast<double>(changes) / static_cast<double>(std::max<uint64_t>(1, used));
+  setCounters(state, events.size());
+}
+void BM_HasteDifferenceStar(benchmark::State& state) { hasteBench(state, HasteVariant::kDifferenceStar); }
+void BM_HasteCorrelationStar(benchmark::State& state) { hasteBench(state, HasteVariant::kCorrelationStar); }
+
+class NullSink final : public MeasurementSink {
+ public:
+  void onMeasurement(const TrackMeasurement& m) override { sum += m.x; }
+  double sum = 0;
+};
+
+void frontendBench(benchmark::State& state, const std::string& tracker) {
+  const int index = static_cast<int>(state.range(0));
+  const auto& events = stream(index);
+  FrontendConfig config;
+  config.tracker = tracker;
+  if (state.range(1) > 0) config.max_features = static_cast<int>(state.range(1));
+  const CameraModel camera = readEcdCalibration(std::string(ASYNEVO_SOURCE_DIR) + "/tests/data/ecd/shapes_rotation/calib.txt");
+  const auto table = camera.undistortionTable<float>();
+  FrontendStats stats;
+  for (auto _ : state) {
+    state.PauseTiming();
+    auto fe = std::make_unique<Frontend>(config, 240, 180, table);
+    NullSink sink;
+    state.ResumeTiming();
+    for (const Event& e : events) fe->process(e, sink);
+    state.PauseTiming();
+    stats = fe->stats();
+    fe.reset();
+    state.ResumeTiming();
+  }
+  state.SetLabel(streamName(index));
+  state.counters["Mev/s stream"] = stats.perSecond(stats.events) * 1e-6;
+  state.counters["features"] = stats.meanActiveFeatures();
+  state.counters["updates/ev"] = static_cast<double>(stats.tracker_updates) / static_cast<double>(stats.events);
+  state.counters["detect/ev"] = static_cast<double>(stats.detector_runs) / static_cast<double>(stats.events);
+  state.counters["meas/s"] = stats.perSecond(stats.measurements);
+  state.counters["switch %"] = 100.0 * static_cast<double>(stats.state_changes) / static_cast<double>(stats.tracker_updates);
+  setCounters(state, events.size());
+}
+void BM_FrontendDifferenceStar(benchmark::State& state) { frontendBench(state, "haste_difference_star"); }
+void BM_FrontendCorrelationStar(benchmark::State& state) { frontendBench(state, "haste_correlation_star"); }
+
+}  // namespace
+
+BENCHMARK(BM_SaeUpdate)->DenseRange(0, 4)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SaeAndArcStar)->DenseRange(0, 4)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SaeAndFaHarris)->DenseRange(0, 4)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_HasteDifferenceStar)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_HasteCorrelationStar)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FrontendDifferenceStar)->ArgsProduct({{0, 1, 2, 3, 4}, {0}})->Args({4, 100})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FrontendCorrelationStar)->ArgsProduct({{0, 1, 2, 3, 4}, {0}})->Args({4, 100})->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();
