@@ -41,19 +41,6 @@ void HasteTracker::reset(int64_t t_ns, float x, float y, float theta) {
   scores_.fill(0.0);
 }
 
-bool HasteTracker::stencil(float xp, float yp, int& base, float w[4]) {
-  // Valid for 0 <= xp < 30 and 0 <= yp < 30 (the 2x2 stencil needs the +1 neighbour).
-  if (!(xp >= 0.f && yp >= 0.f && xp < float(kPatchSize - 1) && yp < float(kPatchSize - 1))) return false;
-  const int x0 = static_cast<int>(xp), y0 = static_cast<int>(yp);
-  const float fx = xp - float(x0), fy = yp - float(y0);
-  base = y0 * kPatchSize + x0;
-  w[0] = (1.f - fx) * (1.f - fy);
-  w[1] = fx * (1.f - fy);
-  w[2] = (1.f - fx) * fy;
-  w[3] = fx * fy;
-  return true;
-}
-
 void HasteTracker::splat(Patch& p, float xp, float yp, float weight) {
   int base;
   float w[4];
@@ -81,6 +68,13 @@ void HasteTracker::generateHypotheses() {
     hy.theta = wrapAngle(state_.theta + kOffsets[h][2] * kRotationStep);
     hy.c = std::cos(hy.theta);
     hy.s = std::sin(hy.theta);
+  }
+  for (int h = 0; h < kPadded; ++h) {
+    const Hypothesis& hy = hyps_[h < kHypotheses ? h : 0];
+    hx_[h] = hy.x;
+    hy_[h] = hy.y;
+    hc_[h] = hy.c;
+    hs_[h] = hy.s;
   }
 }
 
@@ -199,13 +193,14 @@ HasteDifferenceStar::HasteDifferenceStar(const HasteParams& params)
 void HasteDifferenceStar::rebuildScores() {
   for (int c = 0; c < kPatchCells; ++c)
     std::fill_n(&diff_[static_cast<std::size_t>(c) * kHypotheses], kHypotheses, normalized_[c]);
+  alignas(32) float xp[kPadded], yp[kPadded];
   for (int i = 0; i < count_; ++i) {
     const WindowEvent& e = windowEvent(i);
+    patchCoordinates(e.x, e.y, xp, yp);
     for (int h = 0; h < kHypotheses; ++h) {
-      float xp, yp, w[4];
+      float w[4];
       int base;
-      toPatch(hyps_[h], e.x, e.y, xp, yp);
-      if (!stencil(xp, yp, base, w)) continue;
+      if (!stencil(xp[h], yp[h], base, w)) continue;
       for (int k = 0; k < 4; ++k) diff_[static_cast<std::size_t>(base + kStencilOffset[k]) * kHypotheses + h] -= w[k] * kInvWindow;
     }
   }
@@ -219,13 +214,14 @@ void HasteDifferenceStar::rebuildScores() {
 
 void HasteDifferenceStar::updateScores(const WindowEvent& added, const WindowEvent& evicted) {
   float* const diff = diff_.data();
+  alignas(32) float xa[kPadded], ya[kPadded], xe[kPadded], ye[kPadded];
+  patchCoordinates(added.x, added.y, xa, ya);
+  patchCoordinates(evicted.x, evicted.y, xe, ye);
   for (int h = 0; h < kHypotheses; ++h) {
     double delta = 0;  // change of -sum(D^2), from the stored float values so it stays consistent
     int base;
     float w[4];
-    float xp, yp;
-    toPatch(hyps_[h], added.x, added.y, xp, yp);
-    if (stencil(xp, yp, base, w)) {
+    if (stencil(xa[h], ya[h], base, w)) {
       for (int k = 0; k < 4; ++k) {
         float& v = diff[static_cast<std::size_t>(base + kStencilOffset[k]) * kHypotheses + h];
         const float before = v;
@@ -233,8 +229,7 @@ void HasteDifferenceStar::updateScores(const WindowEvent& added, const WindowEve
         delta += double(before) * double(before) - double(v) * double(v);
       }
     }
-    toPatch(hyps_[h], evicted.x, evicted.y, xp, yp);
-    if (stencil(xp, yp, base, w)) {
+    if (stencil(xe[h], ye[h], base, w)) {
       for (int k = 0; k < 4; ++k) {
         float& v = diff[static_cast<std::size_t>(base + kStencilOffset[k]) * kHypotheses + h];
         const float before = v;
@@ -251,25 +246,22 @@ void HasteDifferenceStar::updateScores(const WindowEvent& added, const WindowEve
 HasteCorrelationStar::HasteCorrelationStar(const HasteParams& params) : HasteTracker(params) {}
 
 void HasteCorrelationStar::rebuildScores() {
-  for (int h = 0; h < kHypotheses; ++h) {
-    double sum = 0;
-    for (int i = 0; i < count_; ++i) {
-      const WindowEvent& e = windowEvent(i);
-      float xp, yp;
-      toPatch(hyps_[h], e.x, e.y, xp, yp);
-      sum += sample(normalized_, xp, yp);
-    }
-    scores_[h] = sum * kInvWindow;
+  std::array<double, kHypotheses> sums{};
+  alignas(32) float xp[kPadded], yp[kPadded];
+  for (int i = 0; i < count_; ++i) {
+    const WindowEvent& e = windowEvent(i);
+    patchCoordinates(e.x, e.y, xp, yp);
+    for (int h = 0; h < kHypotheses; ++h) sums[h] += sample(normalized_, xp[h], yp[h]);
   }
+  for (int h = 0; h < kHypotheses; ++h) scores_[h] = sums[h] * kInvWindow;
 }
 
 void HasteCorrelationStar::updateScores(const WindowEvent& added, const WindowEvent& evicted) {
-  for (int h = 0; h < kHypotheses; ++h) {
-    float xa, ya, xe, ye;
-    toPatch(hyps_[h], added.x, added.y, xa, ya);
-    toPatch(hyps_[h], evicted.x, evicted.y, xe, ye);
-    scores_[h] += (double(sample(normalized_, xa, ya)) - double(sample(normalized_, xe, ye))) * kInvWindow;
-  }
+  alignas(32) float xa[kPadded], ya[kPadded], xe[kPadded], ye[kPadded];
+  patchCoordinates(added.x, added.y, xa, ya);
+  patchCoordinates(evicted.x, evicted.y, xe, ye);
+  for (int h = 0; h < kHypotheses; ++h)
+    scores_[h] += (double(sample(normalized_, xa[h], ya[h])) - double(sample(normalized_, xe[h], ye[h]))) * kInvWindow;
 }
 
 std::unique_ptr<HasteTracker> makeHasteTracker(const HasteParams& params) {

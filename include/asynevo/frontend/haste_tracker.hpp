@@ -118,7 +118,18 @@ class HasteTracker {
     yp = -dx * h.s + dy * h.c + float(kRadius);
   }
   /// Bilinear stencil: base cell index and the 4 weights; false outside [0, 30) x [0, 30).
-  static bool stencil(float xp, float yp, int& base, float w[4]);
+  static bool stencil(float xp, float yp, int& base, float w[4]) {
+    // Valid for 0 <= xp < 30 and 0 <= yp < 30 (the 2x2 stencil needs the +1 neighbour).
+    if (!(xp >= 0.f && yp >= 0.f && xp < float(kPatchSize - 1) && yp < float(kPatchSize - 1))) return false;
+    const int x0 = static_cast<int>(xp), y0 = static_cast<int>(yp);
+    const float fx = xp - float(x0), fy = yp - float(y0);
+    base = y0 * kPatchSize + x0;
+    w[0] = (1.f - fx) * (1.f - fy);
+    w[1] = fx * (1.f - fy);
+    w[2] = (1.f - fx) * fy;
+    w[3] = fx * fy;
+    return true;
+  }
   static void splat(Patch& p, float xp, float yp, float weight);
   static float sample(const Patch& p, float xp, float yp);
 
@@ -128,7 +139,18 @@ class HasteTracker {
   /// Incremental score update: `added` entered the window and `evicted` left it.
   virtual void updateScores(const WindowEvent& added, const WindowEvent& evicted) = 0;
 
+  /// Patch coordinates of an image point under every hypothesis (structure-of-arrays, vectorizable).
+  void patchCoordinates(float ex, float ey, float* xp, float* yp) const {
+    for (int h = 0; h < kPadded; ++h) {
+      const float dx = ex - hx_[h], dy = ey - hy_[h];
+      xp[h] = dx * hc_[h] + dy * hs_[h] + float(kRadius);
+      yp[h] = -dx * hs_[h] + dy * hc_[h] + float(kRadius);
+    }
+  }
+  static constexpr int kPadded = 12;  ///< hypotheses padded for SIMD
+
   std::array<Hypothesis, kHypotheses> hyps_{};
+  alignas(32) float hx_[kPadded] = {}, hy_[kPadded] = {}, hc_[kPadded] = {}, hs_[kPadded] = {};
   std::array<double, kHypotheses> scores_{};
   Patch normalized_{};
   std::vector<WindowEvent> window_;  ///< ring buffer of kWindow events, allocated once
