@@ -148,6 +148,18 @@ void frontendBench(benchmark::State& state, const std::string& tracker) {
   state.counters["updates/ev"] = static_cast<double>(stats.tracker_updates) / static_cast<double>(stats.events);
   state.counters["detect/ev"] = static_cast<double>(stats.detector_runs) / static_cast<double>(stats.events);
   state.counters["meas/s"] = stats.perSecond(stats.measurements);
+  state.counters["created"] = static_cast<double>(stats.features_created);
+  state.counters["drop quality"] = static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kQuality)]);
+  state.counters["drop border"] = static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kBorder)]);
+  state.counters["drop idle"] = static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kIdle)]);
+  state.counters["drop collision"] =
+      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kCollision)]);
+  state.counters["created"] = static_cast<double>(stats.features_created);
+  state.counters["drop quality"] = static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kQuality)]);
+  state.counters["drop border"] = static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kBorder)]);
+  state.counters["drop idle"] = static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kIdle)]);
+  state.counters["drop collision"] =
+      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kCollision)]);
   state.counters["switch %"] = 100.0 * static_cast<double>(stats.state_changes) / static_cast<double>(stats.tracker_updates);
   setCounters(state, events.size());
 }

@@ -6,7 +6,10 @@
 #include <fmt/format.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <iostream>
 #include <string>
@@ -18,6 +21,7 @@
 #include "asynevo/io/calibration_io.hpp"
 #include "asynevo/io/event_reader.hpp"
 #include "asynevo/io/trajectory_io.hpp"
+#include "synthetic_stream.hpp"
 
 using namespace asynevo;
 
@@ -36,6 +40,47 @@ Eigen::Vector3d mocapAngularVelocity(const std::string& path, int64_t t0, int64_
   return aa.axis() * aa.angle() / (static_cast<double>(b.t_ns - a.t_ns) * 1e-9);
 }
 
+// Tracking error against the exact motion of the synthetic stream: for each track, error at each
+// measurement = |(p(t) - p(t0)) + (offset(t) - offset(t0))|, t0 = the track's first measurement.
+void evaluateSynthetic(const Config& config) {
+  const double speed = 500.0;
+  const std::vector<Event> events = bench::syntheticStream(240, 180, 1.5, speed);
+  frontend::Frontend fe(config.frontend, 240, 180);
+  frontend::MeasurementCollector out;
+  for (const Event& e : events) fe.process(e, out);
+  fe.finish(out);
+  fmt::print("== synthetic stream ({} events)\n{}", events.size(), fe.stats().summary());
+  std::map<int64_t, std::vector<TrackMeasurement>> tracks;
+  for (const auto& m : out.measurements) tracks[m.feature_id].push_back(m);
+  std::vector<double> errors;
+  int bad_tracks = 0, used = 0;
+  std::vector<double> lifetimes;
+  for (const auto& [id, ms] : tracks) {
+    if (ms.size() < 2) continue;
+    ++used;
+    double ox0, oy0;
+    bench::syntheticOffset(speed, ms.front().t_ns * 1e-9, ox0, oy0);
+    int64_t first_bad = -1;
+    for (const auto& m : ms) {
+      double ox, oy;
+      bench::syntheticOffset(speed, m.t_ns * 1e-9, ox, oy);
+      const double e = std::hypot(m.x - ms.front().x + (ox - ox0), m.y - ms.front().y + (oy - oy0));
+      errors.push_back(e);
+      if (e > 5 && first_bad < 0) first_bad = m.t_ns;
+    }
+    if (first_bad >= 0 && ms.back().t_ns - first_bad > 20'000'000) ++bad_tracks;
+    lifetimes.push_back((ms.back().t_ns - ms.front().t_ns) * 1e-9);
+  }
+  std::sort(errors.begin(), errors.end());
+  std::sort(lifetimes.begin(), lifetimes.end());
+  auto q = [](const std::vector<double>& v, double f) { return v.empty() ? 0.0 : v[std::size_t(f * (v.size() - 1))]; };
+  const double above5 = static_cast<double>(errors.end() - std::upper_bound(errors.begin(), errors.end(), 5.0));
+  fmt::print("track error px    median {:.3f}  p90 {:.3f}  >5px {:.1f} %  over {} measurements of {} tracks\n",
+             q(errors, 0.5), q(errors, 0.9), 100 * above5 / std::max<std::size_t>(1, errors.size()), errors.size(), used);
+  fmt::print("bad tracks        {} with error > 5 px surviving > 20 ms after it\n", bad_tracks);
+  fmt::print("lifetime s        median {:.4f}  p90 {:.4f}\n", q(lifetimes, 0.5), q(lifetimes, 0.9));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -49,6 +94,8 @@ int main(int argc, char** argv) {
       applyConfigYaml(argv[++i], "--yaml", config);
     } else if (a == "--accel") {
       accel = true;
+    } else if (a == "--synthetic") {
+      dirs.push_back("@synthetic");
     } else if (a == "--tracks" && i + 1 < argc) {
       tracks_path = argv[++i];
     } else {
@@ -56,6 +103,10 @@ int main(int argc, char** argv) {
     }
   }
   for (const std::string& dir : dirs) {
+    if (dir == "@synthetic") {
+      evaluateSynthetic(config);
+      continue;
+    }
     const std::vector<Event> events = readAllEvents(dir + "/events.txt");
     const CameraModel camera = readEcdCalibration(dir + "/calib.txt");
     frontend::Frontend fe(config.frontend, camera.width(), camera.height(), camera.undistortionTable<float>());

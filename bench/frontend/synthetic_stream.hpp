@@ -13,6 +13,14 @@
 
 namespace asynevo::bench {
 
+/// Texture offset of syntheticStream at time t (s): a texture point at sensor position p(t0) is at
+/// p(t0) - (offset(t) - offset(t0)) at time t (exact ground truth for any track).
+inline void syntheticOffset(double speed_px_s, double t, double& ox, double& oy) {
+  const double radius = 150.0, omega = speed_px_s / radius;
+  ox = 200 + radius * std::cos(omega * t) - radius;
+  oy = 200 + radius * std::sin(omega * t) * 0.8;
+}
+
 inline std::vector<Event> syntheticStream(int width, int height, double duration_s, double speed_px_s,
                                           int squares = 120, uint32_t seed = 1, double step_s = 50e-6) {
   constexpr int kLevels = 4;
@@ -32,11 +40,7 @@ inline std::vector<Event> syntheticStream(int width, int height, double duration
     return (1 - fx) * (1 - fy) * at(x0, y0) + fx * (1 - fy) * at(x0 + 1, y0) + (1 - fx) * fy * at(x0, y0 + 1) +
            fx * fy * at(x0 + 1, y0 + 1);
   };
-  const double radius = 150.0, omega = speed_px_s / radius;
-  auto offset = [&](double t, double& ox, double& oy) {
-    ox = 200 + radius * std::cos(omega * t) - radius;
-    oy = 200 + radius * std::sin(omega * t) * 0.8;
-  };
+  auto offset = [&](double t, double& ox, double& oy) { syntheticOffset(speed_px_s, t, ox, oy); };
   std::vector<uint8_t> level(static_cast<std::size_t>(width) * height);
   double ox, oy;
   offset(0, ox, oy);
