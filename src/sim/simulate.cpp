@@ -1,0 +1,220 @@
+#include "asynevo/sim/simulate.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "asynevo/core/error.hpp"
+#include "asynevo/core/time.hpp"
+#include "asynevo/io/calibration_io.hpp"
+#include "asynevo/io/event_file.hpp"
+#include "asynevo/io/trajectory_io.hpp"
+#include "asynevo/sim/scene.hpp"
+
+namespace asynevo::sim {
+
+namespace {
+
+/// Writes "t x y p\n" for each event with hand-rolled formatting (the text file can hold tens of
+/// millions of events).
+class EventTextWriter {
+ public:
+  explicit EventTextWriter(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "wb")) {
+    if (!file_) throw Error(fmt::format("{}: cannot open file for writing", path));
+    buffer_.reserve(kFlushBytes + 64);
+  }
+  ~EventTextWriter() {
+    if (file_) std::fclose(file_);
+  }
+  EventTextWriter(const EventTextWriter&) = delete;
+  EventTextWriter& operator=(const EventTextWriter&) = delete;
+
+  void write(const Event& e) {
+    char line[64];
+    char* p = line;
+    int64_t t = e.t_ns;
+    if (t < 0) {
+      *p++ = '-';
+      t = -t;
+    }
+    p = appendUnsigned(p, static_cast<uint64_t>(t / kNsPerSecond));
+    *p++ = '.';
+    uint64_t frac = static_cast<uint64_t>(t % kNsPerSecond);
+    for (int k = 8; k >= 0; --k) {
+      p[k] = static_cast<char>('0' + frac % 10);
+      frac /= 10;
+    }
+    p += 9;
+    *p++ = ' ';
+    p = appendUnsigned(p, e.x);
+    *p++ = ' ';
+    p = appendUnsigned(p, e.y);
+    *p++ = ' ';
+    *p++ = e.polarity > 0 ? '1' : '0';
+    *p++ = '\n';
+    buffer_.append(line, static_cast<std::size_t>(p - line));
+    if (buffer_.size() >= kFlushBytes) flush();
+  }
+
+  void close() {
+    flush();
+    if (!file_) return;
+    const bool failed = std::fclose(file_) != 0;
+    file_ = nullptr;
+    if (failed) throw Error(fmt::format("{}: write failed", path_));
+  }
+
+ private:
+  static constexpr std::size_t kFlushBytes = 1 << 20;
+  static char* appendUnsigned(char* p, uint64_t v) {
+    char digits[24];
+    int n = 0;
+    do {
+      digits[n++] = static_cast<char>('0' + v % 10);
+      v /= 10;
+    } while (v != 0);
+    while (n > 0) *p++ = digits[--n];
+    return p;
+  }
+  void flush() {
+    if (buffer_.empty()) return;
+    if (std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size()) {
+      throw Error(fmt::format("{}: write failed", path_));
+    }
+    buffer_.clear();
+  }
+
+  std::string path_;
+  std::FILE* file_;
+  std::string buffer_;
+};
+
+}  // namespace
+
+std::unique_ptr<Motion> makeMotion(const SimulationSpec& spec) {
+  if (spec.duration_s < 0 || !std::isfinite(spec.duration_s)) {
+    throw std::invalid_argument(fmt::format("duration must not be negative, got {}", spec.duration_s));
+  }
+  if (isMotionPreset(spec.motion)) {
+    return makePresetMotion(spec.motion, spec.duration_s > 0 ? spec.duration_s : kDefaultPresetDurationS);
+  }
+  if (!std::filesystem::exists(spec.motion)) {
+    throw InputError(spec.motion, fmt::format("no such motion file (presets: {})", fmt::join(motionPresetNames(), ", ")));
+  }
+  MotionFileOptions options = spec.motion_file;
+  if (spec.duration_s > 0) {
+    // Window [first pose, first pose + duration]: find the first time without smoothing the whole file.
+    const StampedTrajectory samples = readTumTrajectory(spec.motion);
+    if (samples.empty()) throw InputError(spec.motion, "no poses in the file");
+    options.begin_ns = std::max(options.begin_ns, samples.front().t_ns);
+    options.end_ns = std::min(options.end_ns, options.begin_ns + secondsToNs(spec.duration_s));
+  }
+  return loadMotionFile(spec.motion, options);
+}
+
+SimulationResult simulateToFolder(const SimulationSpec& spec, const std::string& out_dir,
+                                  const std::function<void(int64_t, uint64_t)>& progress) {
+  const CameraModel camera = spec.camera ? *spec.camera : CameraModel::davis240cEcd();
+  const std::unique_ptr<Motion> motion = makeMotion(spec);
+  Scene scene;
+  if (isBuiltinScene(spec.scene)) {
+    scene = makeBuiltinScene(spec.scene, *motion, camera, spec.seed);
+  } else if (std::filesystem::exists(spec.scene)) {
+    scene = loadSceneFile(spec.scene, *motion, camera, spec.seed);
+  } else {
+    throw InputError(spec.scene, fmt::format("no such scene file (built-in scenes: {})", fmt::join(sceneNames(), ", ")));
+  }
+  if (!(spec.groundtruth_rate_hz > 0)) throw std::invalid_argument("ground-truth rate must be positive");
+
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) throw Error(fmt::format("{}: cannot create folder: {}", out_dir, ec.message()));
+  const std::filesystem::path dir(out_dir);
+
+  SimulationResult result;
+  result.scene_description = scene.description;
+  result.motion_description = motion->describe();
+  result.begin_ns = motion->beginNs();
+  result.end_ns = motion->endNs();
+
+  // Calibration.
+  if (camera.distortionModel() != DistortionModel::kEquidistant) writeEcdCalibration((dir / "calib.txt").string(), camera);
+  writeKalibrCalibration((dir / "camchain.yaml").string(), camera);
+
+  // Ground truth: the rendered (smoothed) motion, sampled at the requested rate.
+  const int64_t gt_dt = std::max<int64_t>(1, secondsToNs(1.0 / spec.groundtruth_rate_hz));
+  const StampedTrajectory gt = sampleMotion(*motion, gt_dt);
+  writeTumTrajectory((dir / "groundtruth.txt").string(), gt,
+                     fmt::format("simulated ground truth T_w_c: {}\nt px py pz qx qy qz qw", motion->describe()));
+  result.groundtruth_poses = gt.size();
+
+  // Events (and frames).
+  EventTextWriter text((dir / "events.txt").string());
+  std::unique_ptr<EventFileWriter> binary;
+  if (spec.write_binary) binary = std::make_unique<EventFileWriter>((dir / "events.aevt").string(), camera.width(), camera.height());
+  std::ofstream images_txt;
+  const int64_t frame_period = spec.frame_rate_hz > 0 ? secondsToNs(1.0 / spec.frame_rate_hz) : 0;
+  if (frame_period > 0) {
+    std::filesystem::create_directories(dir / "images");
+    images_txt.open(dir / "images.txt");
+    if (!images_txt) throw Error(fmt::format("{}: cannot open file for writing", (dir / "images.txt").string()));
+  }
+  uint64_t total = 0;
+  EventSimulator simulator(camera, scene, spec.sensor, spec.seed);
+  const auto sink = [&](const std::vector<Event>& events) {
+    for (const Event& e : events) text.write(e);
+    if (binary) binary->write(events.data(), events.size());
+    total += events.size();
+    if (progress) progress(events.back().t_ns, total);
+  };
+  const auto frame_sink = [&](int64_t t_ns, const std::vector<float>& intensity) {
+    cv::Mat image(camera.height(), camera.width(), CV_8U);
+    for (int y = 0; y < camera.height(); ++y) {
+      for (int x = 0; x < camera.width(); ++x) {
+        const float v = intensity[static_cast<std::size_t>(y) * static_cast<std::size_t>(camera.width()) +
+                                  static_cast<std::size_t>(x)];
+        image.at<uint8_t>(y, x) = static_cast<uint8_t>(std::clamp(std::lround(v * 255.0f), 0L, 255L));
+      }
+    }
+    const std::string name = fmt::format("images/frame_{:08d}.png", result.frames);
+    if (!cv::imwrite((dir / name).string(), image)) throw Error(fmt::format("{}: cannot write image", (dir / name).string()));
+    char t[32];
+    formatNsAsSeconds(t_ns, t);
+    images_txt << t << ' ' << name << '\n';
+    ++result.frames;
+  };
+  result.stats = simulator.run(*motion, motion->beginNs(), motion->endNs(), sink, frame_period,
+                               frame_period > 0 ? EventSimulator::FrameSink(frame_sink) : nullptr);
+  text.close();
+  if (binary) binary->close();
+
+  // What was simulated.
+  std::ofstream meta(dir / "sim.yaml");
+  const EventSimConfig& c = spec.sensor;
+  const EventSimStats& s = result.stats;
+  meta << fmt::format(
+      "# asynevo simulate: what produced this folder\n"
+      "scene: \"{}\"\nscene_description: \"{}\"\nmotion: \"{}\"\nmotion_description: \"{}\"\nseed: {}\n"
+      "begin_s: {:.9f}\nend_s: {:.9f}\ncamera: \"{}\"\n"
+      "sensor:\n  contrast: {}\n  contrast_sigma: {}\n  log_epsilon: {}\n  refractory_us: {}\n"
+      "  noise_rate_hz: {}\n  hot_pixels: {}\n  hot_pixel_rate_hz: {}\n  max_pixel_motion: {}\n"
+      "groundtruth_rate_hz: {}\nframe_rate_hz: {}\n"
+      "stats:\n  events: {}\n  on_events: {}\n  off_events: {}\n  noise_events: {}\n  refractory_drops: {}\n"
+      "  render_steps: {}\n  min_step_us: {:.3f}\n  max_step_us: {:.3f}\n  max_step_motion_px: {:.4f}\n",
+      spec.scene, scene.description, spec.motion, motion->describe(), spec.seed, nsToSeconds(result.begin_ns),
+      nsToSeconds(result.end_ns), camera.summary(), c.contrast, c.contrast_sigma, c.log_epsilon, c.refractory_ns / 1e3,
+      c.noise_rate_hz, c.hot_pixels, c.hot_pixel_rate_hz, c.max_pixel_motion, spec.groundtruth_rate_hz,
+      spec.frame_rate_hz, s.events, s.on_events, s.off_events, s.noise_events, s.refractory_drops, s.render_steps,
+      s.min_step_ns / 1e3, s.max_step_ns / 1e3, s.max_step_motion_px);
+  if (!meta) throw Error(fmt::format("{}: write failed", (dir / "sim.yaml").string()));
+  return result;
+}
+
+}  // namespace asynevo::sim

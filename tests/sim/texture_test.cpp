@@ -1,0 +1,115 @@
+#include "asynevo/sim/texture.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "asynevo/core/error.hpp"
+#include "asynevo/sim/renderer.hpp"
+#include "sim_test_util.hpp"
+
+namespace asynevo::sim {
+namespace {
+
+TEST(Texture, MipLevelsAverageAndSamplingInterpolates) {
+  // 4x4 checkerboard of single texels (0/1), texel 1 cm.
+  std::vector<float> px(16);
+  for (int y = 0; y < 4; ++y) {
+    for (int x = 0; x < 4; ++x) px[static_cast<std::size_t>(4 * y + x)] = static_cast<float>((x + y) % 2);
+  }
+  const Texture t(px, 4, 4, 0.01, true, "test");
+  EXPECT_EQ(t.levelCount(), 3);  // 4x4, 2x2, 1x1
+  // At a texel centre with a tiny footprint: the texel itself.
+  EXPECT_FLOAT_EQ(t.sample(0.005, 0.005, 1e-4), 0.0f);
+  EXPECT_FLOAT_EQ(t.sample(0.015, 0.005, 1e-4), 1.0f);
+  // Halfway between two texel centres: their mean.
+  EXPECT_FLOAT_EQ(t.sample(0.01, 0.005, 1e-4), 0.5f);
+  // Wraps around.
+  EXPECT_FLOAT_EQ(t.sample(0.045, 0.005, 1e-4), 0.0f);
+  EXPECT_FLOAT_EQ(t.sample(-0.005, 0.005, 1e-4), 1.0f);
+  // A footprint of 2+ texels: the average level (0.5 everywhere).
+  EXPECT_FLOAT_EQ(t.sample(0.013, 0.027, 0.02), 0.5f);
+  EXPECT_FLOAT_EQ(t.sample(0.013, 0.027, 1.0), 0.5f);
+}
+
+TEST(Texture, ProceduralTexturesAreDeterministicAndInRange) {
+  TextureOptions options;
+  options.texels = 256;
+  options.seed = 7;
+  for (const auto& make : {makeShapesTexture, makeBlobsTexture}) {
+    const auto a = make(options);
+    const auto b = make(options);
+    EXPECT_EQ(a->pixels(), b->pixels());
+    options.seed = 8;
+    EXPECT_NE(make(options)->pixels(), a->pixels());
+    options.seed = 7;
+    for (float v : a->pixels()) {
+      ASSERT_GE(v, 0.0f);
+      ASSERT_LE(v, 1.0f);
+    }
+  }
+  const auto checker = makeCheckerboardTexture(options, 0.1);
+  const double mean = std::accumulate(checker->pixels().begin(), checker->pixels().end(), 0.0) /
+                      static_cast<double>(checker->pixels().size());
+  EXPECT_NEAR(mean, 0.5, 1e-3);
+  const auto stripes = makeStripesTexture(options, 0.25);
+  EXPECT_NEAR(stripes->sample(0.06, 0.3, 1e-4), 0.9f, 1e-3);
+  EXPECT_NEAR(stripes->sample(0.19, 0.3, 1e-4), 0.1f, 1e-3);
+  EXPECT_THROW(makeShapesTexture(TextureOptions{1.0, 1000, 1}), std::invalid_argument);
+}
+
+// Anti-aliasing: a checkerboard far finer than a pixel must render as a nearly uniform grey, not as a
+// moiré of black and white pixels (which would fire spurious events under motion).
+TEST(Renderer, FineTextureIsPrefilteredNotAliased) {
+  const CameraModel camera = CameraModel::pinhole(240, 180, 200, 200, 119.5, 89.5);
+  const auto motion = makePresetMotion("static", 1.0);
+  TextureOptions options;
+  options.texels = 1024;
+  Scene scene;
+  // 2 mm squares seen from 3 m (one pixel covers 15 mm): ~7 squares per pixel.
+  TexturedPlane plane = planeInFrontOfStart(*motion, camera, 3.0, makeCheckerboardTexture(options, 0.002));
+  scene.planes.push_back(plane);
+  const Renderer renderer(camera, scene);
+  const std::vector<float> image = renderer.render(motion->pose(0));
+  double sum = 0, sum_sq = 0;
+  for (float v : image) {
+    sum += v;
+    sum_sq += static_cast<double>(v) * v;
+  }
+  const double mean = sum / static_cast<double>(image.size());
+  const double stddev = std::sqrt(sum_sq / static_cast<double>(image.size()) - mean * mean);
+  std::printf("[ figure ] 2 mm checkerboard at 3 m: mean %.4f, std %.4f (point sampling would give std 0.4)\n", mean,
+              stddev);
+  EXPECT_NEAR(mean, 0.5, 0.01);
+  EXPECT_LT(stddev, 0.02);
+}
+
+TEST(Texture, LoadsImageFiles) {
+  testing::TempDir dir;
+  cv::Mat image(20, 40, CV_8U, cv::Scalar(0));
+  image(cv::Rect(20, 0, 20, 20)).setTo(255);
+  ASSERT_TRUE(cv::imwrite(dir.file("half.png"), image));
+  const auto t = loadImageTexture(dir.file("half.png"), 0.4);  // 1 cm texels
+  EXPECT_EQ(t->width(), 40);
+  EXPECT_EQ(t->height(), 20);
+  EXPECT_DOUBLE_EQ(t->texelSize(), 0.01);
+  EXPECT_FALSE(t->repeats());
+  EXPECT_FLOAT_EQ(t->sample(0.05, 0.1, 1e-4), 0.0f);
+  EXPECT_FLOAT_EQ(t->sample(0.35, 0.1, 1e-4), 1.0f);
+  EXPECT_FLOAT_EQ(t->sample(5.0, 0.1, 1e-4), 1.0f);  // clamped beyond the border
+  try {
+    loadImageTexture(dir.file("missing.png"), 1.0);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              dir.file("missing.png") + ": cannot read image (not found or not a format OpenCV reads)");
+  }
+}
+
+}  // namespace
+}  // namespace asynevo::sim
