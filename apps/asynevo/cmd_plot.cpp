@@ -33,7 +33,8 @@ void addPlotCommand(CLI::App& app) {
         eval::writeEvalOutputs(run, result, {gt.string(), est.string(), timing ? &*timing : nullptr});
         fmt::print("evaluated the run first (sim3, all frames): {}\n", (dir / "eval.json").string());
       } catch (const Error& e) {
-        fmt::print(stderr, "warning: evaluation skipped ({}); figures that need it are skipped too\n", e.what());
+        fmt::print(stderr, "warning: evaluation skipped ({}); figures that need it are skipped too\n",
+                   e.what());
       }
     }
     const int status = eval::runPlotScript(run);

@@ -51,7 +51,8 @@ const char* alignTypeName(AlignType type) {
   return "none";
 }
 
-Similarity umeyama(const Eigen::Matrix3Xd& model, const Eigen::Matrix3Xd& data, bool with_scale, bool yaw_only) {
+Similarity umeyama(const Eigen::Matrix3Xd& model, const Eigen::Matrix3Xd& data, bool with_scale,
+                   bool yaw_only) {
   if (model.cols() != data.cols() || model.cols() == 0) {
     throw EvalError(fmt::format("alignment needs equally many points (got {} and {}), at least one",
                                 model.cols(), data.cols()));
@@ -84,7 +85,8 @@ Similarity umeyama(const Eigen::Matrix3Xd& model, const Eigen::Matrix3Xd& data, 
   return sim;
 }
 
-Similarity alignTrajectory(const std::vector<Eigen::Vector3d>& p_est, const std::vector<Eigen::Matrix3d>& R_est,
+Similarity alignTrajectory(const std::vector<Eigen::Vector3d>& p_est,
+                           const std::vector<Eigen::Matrix3d>& R_est,
                            const std::vector<Eigen::Vector3d>& p_gt, const std::vector<Eigen::Matrix3d>& R_gt,
                            AlignType type, int num_frames) {
   const std::size_t total = p_est.size();

@@ -17,7 +17,8 @@ void appendAll(std::vector<double>& to, const std::vector<double>& from) {
 
 void validate(const EvalOptions& options) {
   if (options.align_frames == 0 || options.align_frames < -1) {
-    throw EvalError(fmt::format("--align-frames must be -1 (all) or at least 1, not {}", options.align_frames));
+    throw EvalError(
+        fmt::format("--align-frames must be -1 (all) or at least 1, not {}", options.align_frames));
   }
   if (options.max_time_diff_ns <= 0) throw EvalError("the maximum association time difference must be > 0");
   for (double length : options.rel_lengths_m) {
@@ -36,11 +37,13 @@ void checkFinite(const StampedTrajectory& trajectory, const char* name) {
   for (std::size_t i = 0; i < trajectory.size(); ++i) {
     const StampedPose& pose = trajectory[i];
     if (!pose.p_w_c.allFinite() || !pose.q_w_c.coeffs().allFinite()) {
-      throw EvalError(fmt::format("{} pose {} (t = {} s) is not finite (NaN or infinity)", name, i, seconds(pose.t_ns)));
+      throw EvalError(
+          fmt::format("{} pose {} (t = {} s) is not finite (NaN or infinity)", name, i, seconds(pose.t_ns)));
     }
     if (i > 0 && pose.t_ns < trajectory[i - 1].t_ns) {
-      throw EvalError(fmt::format("{} pose {} (t = {} s) is earlier than the previous pose: poses must be sorted by time",
-                                  name, i, seconds(pose.t_ns)));
+      throw EvalError(
+          fmt::format("{} pose {} (t = {} s) is earlier than the previous pose: poses must be sorted by time",
+                      name, i, seconds(pose.t_ns)));
     }
   }
 }
@@ -67,23 +70,25 @@ EvalResult evaluate(const StampedTrajectory& gt, const StampedTrajectory& est, c
 
   r.matches = associate(est, gt, options.max_time_diff_ns);
   r.matched = r.matches.size();
-  const std::string spans =
-      fmt::format("the estimate spans {}–{} s ({} poses), the ground truth {}–{} s ({} poses)", seconds(r.est_t0_ns),
-                  seconds(r.est_t1_ns), r.est_poses, seconds(r.gt_t0_ns), seconds(r.gt_t1_ns), r.gt_poses);
+  const std::string spans = fmt::format(
+      "the estimate spans {}–{} s ({} poses), the ground truth {}–{} s ({} poses)", seconds(r.est_t0_ns),
+      seconds(r.est_t1_ns), r.est_poses, seconds(r.gt_t0_ns), seconds(r.gt_t1_ns), r.gt_poses);
   if (r.matched == 0) {
     const bool overlap = r.est_t0_ns <= r.gt_t1_ns && r.gt_t0_ns <= r.est_t1_ns;
     throw EvalError(fmt::format(
-        "no estimate pose is within {} s of a ground-truth pose: {}{}", nsToSeconds(options.max_time_diff_ns), spans,
+        "no estimate pose is within {} s of a ground-truth pose: {}{}", nsToSeconds(options.max_time_diff_ns),
+        spans,
         overlap ? " (the ranges overlap but no times are close enough: different rates or a time offset?)"
                 : " (the time ranges do not overlap: are both in the same time base?)"));
   }
   if (r.matched < 3) {
-    throw EvalError(fmt::format("only {} pose(s) associated within {} s; at least 3 are needed: {}", r.matched,
-                                nsToSeconds(options.max_time_diff_ns), spans));
+    throw EvalError(fmt::format("only {} pose(s) associated within {} s; at least 3 are needed: {}",
+                                r.matched, nsToSeconds(options.max_time_diff_ns), spans));
   }
   if (r.matched < r.est_poses) {
-    r.warnings.push_back(fmt::format("{} of {} estimate poses have no ground truth within {} s and are ignored",
-                                     r.est_poses - r.matched, r.est_poses, nsToSeconds(options.max_time_diff_ns)));
+    r.warnings.push_back(
+        fmt::format("{} of {} estimate poses have no ground truth within {} s and are ignored",
+                    r.est_poses - r.matched, r.est_poses, nsToSeconds(options.max_time_diff_ns)));
   }
 
   PosePairs& pairs = r.pairs;
@@ -103,39 +108,44 @@ EvalResult evaluate(const StampedTrajectory& gt, const StampedTrajectory& est, c
   const std::vector<double> distances = distancesFromStart(pairs.p_gt);
   r.matched_gt_path_length_m = distances.back();
 
-  r.alignment = alignTrajectory(pairs.p_est, pairs.R_est, pairs.p_gt, pairs.R_gt, options.align, options.align_frames);
+  r.alignment =
+      alignTrajectory(pairs.p_est, pairs.R_est, pairs.p_gt, pairs.R_gt, options.align, options.align_frames);
   if (!std::isfinite(r.alignment.scale) || !r.alignment.rotation.allFinite() ||
       !r.alignment.translation.allFinite()) {
     throw EvalError("the alignment is not finite (degenerate trajectories?)");
   }
   if (options.align == AlignType::kSim3 && !(r.alignment.scale > 0.0)) {
-    throw EvalError(fmt::format("the Sim(3) alignment scale is {} (degenerate estimate?)", r.alignment.scale));
+    throw EvalError(
+        fmt::format("the Sim(3) alignment scale is {} (degenerate estimate?)", r.alignment.scale));
   }
   r.ate = computeAbsoluteErrors(pairs, r.alignment);
 
-  const std::vector<double> lengths = options.rel_lengths_m.empty()
-                                          ? lengthsFromPercentages(r.gt_path_length_m, options.rel_percentages)
-                                          : options.rel_lengths_m;
+  const std::vector<double> lengths =
+      options.rel_lengths_m.empty() ? lengthsFromPercentages(r.gt_path_length_m, options.rel_percentages)
+                                    : options.rel_lengths_m;
   RelativeErrorOptions rel_options;
   rel_options.rpg_start_indexing = options.rpg_start_indexing;
   std::vector<double> all_trans, all_perc, all_rot;
   for (double length : lengths) {
     if (!(length > 0.0)) {
-      r.warnings.push_back(fmt::format("sub-trajectory length {} m skipped (the ground-truth path, {:.4f} m, is too "
-                                       "short for 2-decimal lengths)",
-                                       length, r.gt_path_length_m));
+      r.warnings.push_back(
+          fmt::format("sub-trajectory length {} m skipped (the ground-truth path, {:.4f} m, is too "
+                      "short for 2-decimal lengths)",
+                      length, r.gt_path_length_m));
       continue;
     }
     RelativeErrors rel = computeRelativeErrors(pairs, distances, length, r.alignment.scale, rel_options);
     if (rel.too_few) {
-      r.warnings.push_back(fmt::format(
-          "sub-trajectory length {} m: fewer than 2 sub-trajectories (the associated ground truth travels {:.3f} m)",
-          length, r.matched_gt_path_length_m));
+      r.warnings.push_back(
+          fmt::format("sub-trajectory length {} m: fewer than 2 sub-trajectories (the associated ground "
+                      "truth travels {:.3f} m)",
+                      length, r.matched_gt_path_length_m));
     }
     if (rel.shifted_starts > 0) {
-      r.warnings.push_back(fmt::format("sub-trajectory length {} m: {} sample(s) use rpg's shifted start index (a "
-                                       "start without an end lies before them)",
-                                       length, rel.shifted_starts));
+      r.warnings.push_back(
+          fmt::format("sub-trajectory length {} m: {} sample(s) use rpg's shifted start index (a "
+                      "start without an end lies before them)",
+                      length, rel.shifted_starts));
     }
     appendAll(all_trans, rel.trans_m);
     appendAll(all_perc, rel.trans_perc);
@@ -148,7 +158,8 @@ EvalResult evaluate(const StampedTrajectory& gt, const StampedTrajectory& est, c
   return r;
 }
 
-EvalResult evaluateFiles(const std::string& gt_path, const std::string& est_path, const EvalOptions& options) {
+EvalResult evaluateFiles(const std::string& gt_path, const std::string& est_path,
+                         const EvalOptions& options) {
   TrajectoryReadReport gt_report, est_report;
   const StampedTrajectory gt = readTumTrajectory(gt_path, &gt_report);
   const StampedTrajectory est = readTumTrajectory(est_path, &est_report);
@@ -160,11 +171,12 @@ EvalResult evaluateFiles(const std::string& gt_path, const std::string& est_path
   }
   for (const auto& [path, report] : {std::pair{&gt_path, &gt_report}, std::pair{&est_path, &est_report}}) {
     if (report->normalized_quaternions > 0) {
-      result.warnings.insert(result.warnings.begin(),
-                             fmt::format("{}: {} quaternion(s) were not unit length and were normalized (first at "
-                                         "line {}, largest |norm - 1| = {:.3g})",
-                                         *path, report->normalized_quaternions, report->first_normalized_line,
-                                         report->max_quaternion_norm_error));
+      result.warnings.insert(
+          result.warnings.begin(),
+          fmt::format("{}: {} quaternion(s) were not unit length and were normalized (first at "
+                      "line {}, largest |norm - 1| = {:.3g})",
+                      *path, report->normalized_quaternions, report->first_normalized_line,
+                      report->max_quaternion_norm_error));
     }
   }
   return result;

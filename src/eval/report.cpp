@@ -55,7 +55,8 @@ std::string array(const std::vector<double>& values) {
 std::string statsJson(const Stats& s) {
   if (s.num_samples == 0) return "{\"num_samples\": 0}";
   return fmt::format(
-      "{{\"rmse\": {}, \"mean\": {}, \"median\": {}, \"std\": {}, \"min\": {}, \"max\": {}, \"num_samples\": {}}}",
+      "{{\"rmse\": {}, \"mean\": {}, \"median\": {}, \"std\": {}, \"min\": {}, \"max\": {}, \"num_samples\": "
+      "{}}}",
       num(s.rmse), num(s.mean), num(s.median), num(s.std), num(s.min), num(s.max), s.num_samples);
 }
 
@@ -67,9 +68,9 @@ std::string columnJson(const ColumnStats& c) {
 /// rpg's YAML block for one statistic (yaml.dump sorts the keys).
 std::string statsYaml(const std::string& label, const Stats& s) {
   if (s.num_samples == 0) return fmt::format("{}:\n  num_samples: 0\n", label);
-  return fmt::format("{}:\n  max: {}\n  mean: {}\n  median: {}\n  min: {}\n  num_samples: {}\n  rmse: {}\n  std: {}\n",
-                     label, num(s.max), num(s.mean), num(s.median), num(s.min), s.num_samples, num(s.rmse),
-                     num(s.std));
+  return fmt::format(
+      "{}:\n  max: {}\n  mean: {}\n  median: {}\n  min: {}\n  num_samples: {}\n  rmse: {}\n  std: {}\n",
+      label, num(s.max), num(s.mean), num(s.median), num(s.min), s.num_samples, num(s.rmse), num(s.std));
 }
 
 void writeFile(const std::string& path, const std::string& content) {
@@ -81,15 +82,16 @@ void writeFile(const std::string& path, const std::string& content) {
 
 std::string formatStatsRow(const char* name, const Stats& s, double factor, const char* unit) {
   if (s.num_samples == 0) return fmt::format("  {:<18} (no samples)\n", name);
-  return fmt::format("  {:<18} rmse {:9.4f}  mean {:9.4f}  median {:9.4f}  max {:9.4f} {}\n", name, s.rmse * factor,
-                     s.mean * factor, s.median * factor, s.max * factor, unit);
+  return fmt::format("  {:<18} rmse {:9.4f}  mean {:9.4f}  median {:9.4f}  max {:9.4f} {}\n", name,
+                     s.rmse * factor, s.mean * factor, s.median * factor, s.max * factor, unit);
 }
 
 }  // namespace
 
 std::string evalJson(const EvalResult& r, const ReportInputs& inputs) {
   std::string j = "{\n";
-  j += fmt::format("  \"gt_file\": {},\n  \"est_file\": {},\n", quoted(inputs.gt_path), quoted(inputs.est_path));
+  j += fmt::format("  \"gt_file\": {},\n  \"est_file\": {},\n", quoted(inputs.gt_path),
+                   quoted(inputs.est_path));
   j += "  \"reference\": \"rpg_trajectory_evaluation definitions (docs/evaluation.md)\",\n";
   j += fmt::format(
       "  \"association\": {{\"max_time_diff_s\": {}, \"gt_poses\": {}, \"est_poses\": {}, \"matched\": {}, "
@@ -98,15 +100,17 @@ std::string evalJson(const EvalResult& r, const ReportInputs& inputs) {
       num(nsToSeconds(r.gt_t1_ns)), num(nsToSeconds(r.est_t0_ns)), num(nsToSeconds(r.est_t1_ns)));
   const auto& R = r.alignment.rotation;
   j += fmt::format(
-      "  \"alignment\": {{\"type\": {}, \"num_frames\": {}, \"scale\": {}, \"rotation\": [[{}, {}, {}], [{}, {}, {}], "
+      "  \"alignment\": {{\"type\": {}, \"num_frames\": {}, \"scale\": {}, \"rotation\": [[{}, {}, {}], [{}, "
+      "{}, {}], "
       "[{}, {}, {}]], \"translation\": [{}, {}, {}]}},\n",
-      quoted(alignTypeName(r.align)), r.align_frames, num(r.alignment.scale), num(R(0, 0)), num(R(0, 1)), num(R(0, 2)),
-      num(R(1, 0)), num(R(1, 1)), num(R(1, 2)), num(R(2, 0)), num(R(2, 1)), num(R(2, 2)),
+      quoted(alignTypeName(r.align)), r.align_frames, num(r.alignment.scale), num(R(0, 0)), num(R(0, 1)),
+      num(R(0, 2)), num(R(1, 0)), num(R(1, 1)), num(R(1, 2)), num(R(2, 0)), num(R(2, 1)), num(R(2, 2)),
       num(r.alignment.translation.x()), num(r.alignment.translation.y()), num(r.alignment.translation.z()));
-  j += fmt::format("  \"gt_path_length_m\": {},\n  \"matched_gt_path_length_m\": {},\n", num(r.gt_path_length_m),
-                   num(r.matched_gt_path_length_m));
-  j += fmt::format("  \"ate\": {{\n    \"trans_m\": {},\n    \"rot_deg\": {},\n    \"scale_perc\": {}\n  }},\n",
-                   statsJson(r.ate.trans), statsJson(r.ate.rot), statsJson(r.ate.scale));
+  j += fmt::format("  \"gt_path_length_m\": {},\n  \"matched_gt_path_length_m\": {},\n",
+                   num(r.gt_path_length_m), num(r.matched_gt_path_length_m));
+  j += fmt::format(
+      "  \"ate\": {{\n    \"trans_m\": {},\n    \"rot_deg\": {},\n    \"scale_perc\": {}\n  }},\n",
+      statsJson(r.ate.trans), statsJson(r.ate.rot), statsJson(r.ate.scale));
   j += "  \"relative_error\": {\n    \"per_length\": [";
   for (std::size_t k = 0; k < r.relative.size(); ++k) {
     const RelativeErrors& e = r.relative[k];
@@ -114,23 +118,26 @@ std::string evalJson(const EvalResult& r, const ReportInputs& inputs) {
     for (std::size_t i : e.start) t_start.push_back(nsToSeconds(r.pairs.t_gt_ns[i]));
     j += k ? ",\n      {" : "\n      {";
     j += fmt::format(
-        "\"length_m\": {}, \"max_dist_diff_m\": {}, \"num_samples\": {}, \"too_few\": {}, \"shifted_starts\": {},\n"
-        "       \"trans_m\": {},\n       \"trans_perc\": {},\n       \"rot_deg\": {},\n       \"yaw_deg\": {},\n"
+        "\"length_m\": {}, \"max_dist_diff_m\": {}, \"num_samples\": {}, \"too_few\": {}, "
+        "\"shifted_starts\": {},\n"
+        "       \"trans_m\": {},\n       \"trans_perc\": {},\n       \"rot_deg\": {},\n       \"yaw_deg\": "
+        "{},\n"
         "       \"gravity_deg\": {},\n       \"rot_deg_per_m\": {},\n"
         "       \"samples\": {{\"t_start_s\": {}, \"trans_m\": {}, \"trans_perc\": {}, \"rot_deg\": {}}}}}",
-        num(e.length_m), num(e.max_dist_diff_m), e.trans_m.size(), e.too_few ? "true" : "false", e.shifted_starts,
-        statsJson(e.trans), statsJson(e.trans_perc_stats), statsJson(e.rot), statsJson(e.yaw), statsJson(e.gravity),
-        statsJson(e.rot_per_m), array(t_start), array(e.trans_m), array(e.trans_perc), array(e.rot_deg));
+        num(e.length_m), num(e.max_dist_diff_m), e.trans_m.size(), e.too_few ? "true" : "false",
+        e.shifted_starts, statsJson(e.trans), statsJson(e.trans_perc_stats), statsJson(e.rot),
+        statsJson(e.yaw), statsJson(e.gravity), statsJson(e.rot_per_m), array(t_start), array(e.trans_m),
+        array(e.trans_perc), array(e.rot_deg));
   }
   j += r.relative.empty() ? "],\n" : "\n    ],\n";
   j += fmt::format("    \"pooled\": {{\"trans_m\": {}, \"trans_perc\": {}, \"rot_deg\": {}}}\n  }},\n",
                    statsJson(r.pooled_trans), statsJson(r.pooled_trans_perc), statsJson(r.pooled_rot));
   if (inputs.timing) {
     const TimingStats& t = *inputs.timing;
-    j += fmt::format("  \"timing\": {{\"updates\": {}, \"t_first_s\": {}, \"t_last_s\": {}, \"total_ms_sum\": {}, "
-                     "\"backend_real_time_factor\": {},\n    \"stages\": [",
-                     t.updates, num(t.t_first_s), num(t.t_last_s), num(t.total_ms_sum),
-                     num(t.backend_real_time_factor));
+    j += fmt::format(
+        "  \"timing\": {{\"updates\": {}, \"t_first_s\": {}, \"t_last_s\": {}, \"total_ms_sum\": {}, "
+        "\"backend_real_time_factor\": {},\n    \"stages\": [",
+        t.updates, num(t.t_first_s), num(t.t_last_s), num(t.total_ms_sum), num(t.backend_real_time_factor));
     for (std::size_t k = 0; k < t.stages.size(); ++k) j += (k ? ", " : "") + columnJson(t.stages[k]);
     j += "],\n    \"other_columns\": [";
     for (std::size_t k = 0; k < t.others.size(); ++k) j += (k ? ", " : "") + columnJson(t.others[k]);
@@ -142,7 +149,8 @@ std::string evalJson(const EvalResult& r, const ReportInputs& inputs) {
   return j;
 }
 
-std::vector<std::string> writeEvalOutputs(const std::string& dir, const EvalResult& r, const ReportInputs& inputs) {
+std::vector<std::string> writeEvalOutputs(const std::string& dir, const EvalResult& r,
+                                          const ReportInputs& inputs) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -153,10 +161,11 @@ std::vector<std::string> writeEvalOutputs(const std::string& dir, const EvalResu
   written.push_back(json_path);
 
   // rpg: absolute_err_statistics_<align_type>_<align_num_frames>.yaml with trans, rot, scale.
-  const std::string abs_path =
-      (fs::path(dir) / fmt::format("absolute_err_statistics_{}_{}.yaml", alignTypeName(r.align), r.align_frames))
-          .string();
-  writeFile(abs_path, statsYaml("rot", r.ate.rot) + statsYaml("scale", r.ate.scale) + statsYaml("trans", r.ate.trans));
+  const std::string abs_path = (fs::path(dir) / fmt::format("absolute_err_statistics_{}_{}.yaml",
+                                                            alignTypeName(r.align), r.align_frames))
+                                   .string();
+  writeFile(abs_path,
+            statsYaml("rot", r.ate.rot) + statsYaml("scale", r.ate.scale) + statsYaml("trans", r.ate.trans));
   written.push_back(abs_path);
 
   // rpg: relative_error_statistics_<"{:3.1f}" of the length, '.' → '_'>.yaml.
@@ -165,7 +174,8 @@ std::vector<std::string> writeEvalOutputs(const std::string& dir, const EvalResu
     for (char& c : name) {
       if (c == '.') c = '_';
     }
-    const std::string path = (fs::path(dir) / fmt::format("relative_error_statistics_{}.yaml", name)).string();
+    const std::string path =
+        (fs::path(dir) / fmt::format("relative_error_statistics_{}.yaml", name)).string();
     writeFile(path, statsYaml("gravity", e.gravity) + statsYaml("rot", e.rot) + statsYaml("trans", e.trans) +
                         statsYaml("trans_perc", e.trans_perc_stats) + statsYaml("yaw", e.yaw));
     written.push_back(path);
@@ -178,15 +188,16 @@ std::string summaryTable(const EvalResult& r, const TimingStats* timing) {
   s += fmt::format("associated {} of {} estimate poses with {} ground-truth poses (|dt| < {} s)\n", r.matched,
                    r.est_poses, r.gt_poses, nsToSeconds(r.max_time_diff_ns));
   s += fmt::format("alignment {} ({} frames): scale {:.6f}\n", alignTypeName(r.align),
-                   r.align_frames < 0 ? std::string("all") : std::to_string(r.align_frames), r.alignment.scale);
+                   r.align_frames < 0 ? std::string("all") : std::to_string(r.align_frames),
+                   r.alignment.scale);
   s += fmt::format("ground-truth path {:.3f} m (associated part {:.3f} m)\n", r.gt_path_length_m,
                    r.matched_gt_path_length_m);
   s += "absolute trajectory error (ATE):\n";
   s += formatStatsRow("translation", r.ate.trans, 1.0, "m");
   s += formatStatsRow("rotation", r.ate.rot, 1.0, "deg");
   s += "relative error:\n";
-  s += fmt::format("  {:>9} {:>8} {:>11} {:>11} {:>10} {:>9}\n", "length m", "samples", "trans rmse", "trans med",
-                   "trans% avg", "rot° avg");
+  s += fmt::format("  {:>9} {:>8} {:>11} {:>11} {:>10} {:>9}\n", "length m", "samples", "trans rmse",
+                   "trans med", "trans% avg", "rot° avg");
   for (const RelativeErrors& e : r.relative) {
     if (e.trans.num_samples == 0) {
       s += fmt::format("  {:9.2f} {:>8} (too few sub-trajectories)\n", e.length_m, 0);
@@ -196,15 +207,17 @@ std::string summaryTable(const EvalResult& r, const TimingStats* timing) {
                      e.trans.rmse, e.trans.median, e.trans_perc_stats.mean, e.rot.mean);
   }
   if (r.pooled_trans.num_samples > 0) {
-    s += fmt::format("  {:>9} {:8} {:11.4f} {:11.4f} {:10.3f} {:9.3f}\n", "pooled", r.pooled_trans.num_samples,
-                     r.pooled_trans.rmse, r.pooled_trans.median, r.pooled_trans_perc.mean, r.pooled_rot.mean);
+    s +=
+        fmt::format("  {:>9} {:8} {:11.4f} {:11.4f} {:10.3f} {:9.3f}\n", "pooled", r.pooled_trans.num_samples,
+                    r.pooled_trans.rmse, r.pooled_trans.median, r.pooled_trans_perc.mean, r.pooled_rot.mean);
   }
   if (timing) {
     s += fmt::format("backend: {} updates", timing->updates);
     if (timing->has_total) {
       for (const ColumnStats& c : timing->stages) {
         if (c.name == "total_ms") {
-          s += fmt::format(", total per update mean {:.2f} ms, p95 {:.2f} ms, max {:.2f} ms", c.mean, c.p95, c.max);
+          s += fmt::format(", total per update mean {:.2f} ms, p95 {:.2f} ms, max {:.2f} ms", c.mean, c.p95,
+                           c.max);
         }
       }
       s += fmt::format(", backend real-time factor {:.3f}", timing->backend_real_time_factor);

@@ -26,7 +26,8 @@ std::vector<std::string_view> splitCsv(std::string_view line) {
   std::size_t begin = 0;
   while (true) {
     const std::size_t comma = line.find(',', begin);
-    fields.push_back(trim(line.substr(begin, comma == std::string_view::npos ? std::string_view::npos : comma - begin)));
+    fields.push_back(
+        trim(line.substr(begin, comma == std::string_view::npos ? std::string_view::npos : comma - begin)));
     if (comma == std::string_view::npos) break;
     begin = comma + 1;
   }
@@ -65,13 +66,15 @@ TimingStats readTimingStats(const std::string& path) {
     const auto fields = splitCsv(view);
     if (header.empty()) {
       for (auto f : fields) header.emplace_back(f);
-      if (header.size() < 2) throw InputError::atLine(path, line_number, "expected a header with at least 2 columns");
+      if (header.size() < 2)
+        throw InputError::atLine(path, line_number, "expected a header with at least 2 columns");
       columns.resize(header.size());
       continue;
     }
     if (fields.size() != header.size()) {
-      throw InputError::atLine(path, line_number,
-                               fmt::format("expected {} fields like the header, found {}", header.size(), fields.size()));
+      throw InputError::atLine(
+          path, line_number,
+          fmt::format("expected {} fields like the header, found {}", header.size(), fields.size()));
     }
     for (std::size_t k = 0; k < fields.size(); ++k) {
       double v = 0.0;

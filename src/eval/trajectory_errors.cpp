@@ -67,8 +67,7 @@ std::vector<std::pair<std::size_t, std::size_t>> comparisonPairs(const std::vect
     double error = max_dist_diff;
     if (above != begin + static_cast<std::ptrdiff_t>(idx)) {
       const double below_value = *(above - 1);
-      const auto first_below =
-          std::lower_bound(begin + static_cast<std::ptrdiff_t>(idx), above, below_value);
+      const auto first_below = std::lower_bound(begin + static_cast<std::ptrdiff_t>(idx), above, below_value);
       const double e = std::fabs(below_value - target);
       if (e < error) {
         best = first_below - begin;
@@ -134,8 +133,8 @@ std::vector<double> lengthsFromPercentages(double path_length, const std::vector
   return lengths;
 }
 
-RelativeErrors computeRelativeErrors(const PosePairs& pairs, const std::vector<double>& distances, double length,
-                                     double scale, const RelativeErrorOptions& options) {
+RelativeErrors computeRelativeErrors(const PosePairs& pairs, const std::vector<double>& distances,
+                                     double length, double scale, const RelativeErrorOptions& options) {
   RelativeErrors out;
   out.length_m = length;
   out.max_dist_diff_m = 0.2 * length;

@@ -84,9 +84,10 @@ class RecordReader {
         char now[32], before[32];
         formatNsAsSeconds(*t, now);
         formatNsAsSeconds(previous_t_ns_, before);
-        throw error(fmt::format("time {} s is earlier than the previous record's {} s (line {}); "
-                                "records must be sorted by time",
-                                now, before, previous_line_));
+        throw error(
+            fmt::format("time {} s is earlier than the previous record's {} s (line {}); "
+                        "records must be sorted by time",
+                        now, before, previous_line_));
       }
       have_previous_ = true;
       previous_t_ns_ = *t;

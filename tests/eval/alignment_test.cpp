@@ -17,7 +17,8 @@ Eigen::Matrix3Xd points() {
 }
 
 TEST(Umeyama, RecoversAKnownSimilarity) {
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
   const Eigen::Vector3d t(0.3, -4, 2);
   const Eigen::Matrix3Xd data = points();
   const Eigen::Matrix3Xd model = ((2.5 * R * data).colwise() + t).eval();
@@ -55,9 +56,9 @@ TEST(AlignTrajectory, SingleFrameVariantsUseTheFirstPose) {
   const Eigen::Matrix3d R_align = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   const Eigen::Vector3d t_align(1, -1, 0.5);
   std::vector<Eigen::Vector3d> p_est = {{1, 2, 3}, {2, 2, 2}}, p_gt;
-  std::vector<Eigen::Matrix3d> R_est = {
-      Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix(),
-      Eigen::Matrix3d::Identity()},
+  std::vector<Eigen::Matrix3d> R_est = {Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 1, 0).normalized())
+                                            .toRotationMatrix(),
+                                        Eigen::Matrix3d::Identity()},
                                R_gt;
   for (std::size_t i = 0; i < 2; ++i) {
     p_gt.push_back(R_align * p_est[i] + t_align);

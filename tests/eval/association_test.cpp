@@ -20,8 +20,9 @@ TEST(Associate, ClosestPairWinsAndEachPoseIsUsedOnce) {
   EXPECT_EQ(pairs(associate(std::vector<int64_t>{0, 15 * kMs}, std::vector<int64_t>{10 * kMs})), (P{{1, 0}}));
   // Greedy by |dt|, not per estimate: est 0 would prefer gt 1 (2 ms), but est 1 takes gt 1 (1 ms)
   // first; est 0 then falls back to gt 0 (8 ms).
-  EXPECT_EQ(pairs(associate(std::vector<int64_t>{10 * kMs, 13 * kMs}, std::vector<int64_t>{2 * kMs, 12 * kMs})),
-            (P{{0, 0}, {1, 1}}));
+  EXPECT_EQ(
+      pairs(associate(std::vector<int64_t>{10 * kMs, 13 * kMs}, std::vector<int64_t>{2 * kMs, 12 * kMs})),
+      (P{{0, 0}, {1, 1}}));
 }
 
 TEST(Associate, MaxDifferenceIsStrict) {
@@ -32,9 +33,11 @@ TEST(Associate, MaxDifferenceIsStrict) {
 
 TEST(Associate, TiesGoToTheLowerEstimateIndexThenGroundTruthIndex) {
   // Both estimates are 5 ms from the single gt pose: Python's tuple sort picks est 0.
-  EXPECT_EQ(pairs(associate(std::vector<int64_t>{5 * kMs, 15 * kMs}, std::vector<int64_t>{10 * kMs})), (P{{0, 0}}));
+  EXPECT_EQ(pairs(associate(std::vector<int64_t>{5 * kMs, 15 * kMs}, std::vector<int64_t>{10 * kMs})),
+            (P{{0, 0}}));
   // One estimate equally far from two gt poses: gt 0.
-  EXPECT_EQ(pairs(associate(std::vector<int64_t>{10 * kMs}, std::vector<int64_t>{5 * kMs, 15 * kMs})), (P{{0, 0}}));
+  EXPECT_EQ(pairs(associate(std::vector<int64_t>{10 * kMs}, std::vector<int64_t>{5 * kMs, 15 * kMs})),
+            (P{{0, 0}}));
 }
 
 TEST(Associate, ResultIsOrderedByEstimateAndSkipsUnmatched) {

@@ -1,7 +1,6 @@
 // End-to-end checks of 'asynevo eval' and 'asynevo plot' on a small synthetic run folder: the
 // binary is run through its path in the build tree.
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 
 #include <array>
@@ -62,16 +61,19 @@ class EvalCli : public ::testing::Test {
     writeTumTrajectory((dir_ / "stamped_groundtruth.txt").string(), gt);
     writeTumTrajectory((dir_ / "stamped_traj_estimate.txt").string(), est);
     std::vector<StampedTwist> twists;
-    for (const auto& pose : est) twists.push_back({pose.t_ns, Eigen::Vector3d(0.5, 0, 0.1), Eigen::Vector3d(0, 0, 1)});
+    for (const auto& pose : est)
+      twists.push_back({pose.t_ns, Eigen::Vector3d(0.5, 0, 0.1), Eigen::Vector3d(0, 0, 1)});
     writeVelocities((dir_ / "velocities.txt").string(), twists);
     std::ofstream timing(dir_ / "timing.csv");
     timing << "t_s,window_size,solve_ms,marginalize_ms,total_ms\n";
     for (int i = 0; i < 40; ++i) {
-      timing << 0.2 * i << "," << 10 + i % 3 << "," << 2.0 + i % 5 << "," << 0.5 << "," << 2.5 + i % 5 << "\n";
+      timing << 0.2 * i << "," << 10 + i % 3 << "," << 2.0 + i % 5 << "," << 0.5 << "," << 2.5 + i % 5
+             << "\n";
     }
     std::ofstream tracks(dir_ / "tracks.txt");
     for (int id = 0; id < 5; ++id) {
-      for (int k = 0; k < 20; ++k) tracks << id << " " << 0.01 * k + id << " " << 10 + k + 20 * id << " " << 50 + k << "\n";
+      for (int k = 0; k < 20; ++k)
+        tracks << id << " " << 0.01 * k + id << " " << 10 + k + 20 * id << " " << 50 + k << "\n";
     }
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -104,8 +106,9 @@ TEST_F(EvalCli, EvalWritesJsonYamlAndTable) {
 }
 
 TEST_F(EvalCli, EvalOptionsAndErrors) {
-  Output out = run("eval --gt " + path("stamped_groundtruth.txt") + " --est " + path("stamped_traj_estimate.txt") +
-                   " --align se3 --align-frames 10 --rel-lengths 0.5,1 --out " + (dir_ / "se3").string());
+  Output out =
+      run("eval --gt " + path("stamped_groundtruth.txt") + " --est " + path("stamped_traj_estimate.txt") +
+          " --align se3 --align-frames 10 --rel-lengths 0.5,1 --out " + (dir_ / "se3").string());
   ASSERT_EQ(out.status, 0) << out.text;
   EXPECT_NE(slurp(dir_ / "se3" / "eval.json").find("\"num_frames\": 10"), std::string::npos);
   EXPECT_TRUE(fs::exists(dir_ / "se3" / "relative_error_statistics_0_5.yaml"));
@@ -134,8 +137,8 @@ TEST_F(EvalCli, PlotProducesEveryFigure) {
   if (!haveMatplotlib()) GTEST_SKIP() << "Debian python3-matplotlib is not installed";
   const Output out = run("plot --run " + dir_.string());
   ASSERT_EQ(out.status, 0) << out.text;
-  for (const char* png : {"trajectory.png", "position.png", "velocity.png", "relative_error.png", "runtime.png",
-                          "tracks.png"}) {
+  for (const char* png : {"trajectory.png", "position.png", "velocity.png", "relative_error.png",
+                          "runtime.png", "tracks.png"}) {
     const fs::path p = dir_ / "plots" / png;
     ASSERT_TRUE(fs::exists(p)) << png << "\n" << out.text;
     EXPECT_GT(fs::file_size(p), 5000u) << png;
@@ -163,9 +166,9 @@ TEST_F(EvalCli, PlotSaysWhichFiguresItSkipped) {
 }
 
 std::string crosscheck(const std::string& gt, const std::string& est, const std::string& out_dir) {
-  const std::string cmd = "/usr/bin/python3 " + std::string(ASYNEVO_SOURCE_DIR) + "/tools/rpg_crosscheck.py --gt " +
-                          gt + " --est " + est + " --eval " + out_dir + "/eval.json > " + out_dir +
-                          "/crosscheck.txt 2>&1";
+  const std::string cmd = "/usr/bin/python3 " + std::string(ASYNEVO_SOURCE_DIR) +
+                          "/tools/rpg_crosscheck.py --gt " + gt + " --est " + est + " --eval " + out_dir +
+                          "/eval.json > " + out_dir + "/crosscheck.txt 2>&1";
   return std::system(cmd.c_str()) == 0 ? "" : "differ:\n" + slurp(fs::path(out_dir) / "crosscheck.txt");
 }
 
@@ -177,7 +180,8 @@ TEST_F(EvalCli, AgreesWithIndependentRpgProcedureOnEcdGroundTruth) {
   if (std::system("/usr/bin/python3 -c 'import numpy' >/dev/null 2>&1") != 0) {
     GTEST_SKIP() << "Debian python3-numpy is not installed";
   }
-  const std::string gt_path = std::string(ASYNEVO_SOURCE_DIR) + "/tests/data/ecd/shapes_rotation/groundtruth.txt";
+  const std::string gt_path =
+      std::string(ASYNEVO_SOURCE_DIR) + "/tests/data/ecd/shapes_rotation/groundtruth.txt";
   const StampedTrajectory gt = readEcdGroundTruth(gt_path);
   std::mt19937 rng(7);
   std::normal_distribution<double> noise(0.0, 1.0);
@@ -188,7 +192,8 @@ TEST_F(EvalCli, AgreesWithIndependentRpgProcedureOnEcdGroundTruth) {
     if (pose.t_ns > 20'000'000'000 && pose.t_ns < 25'000'000'000) continue;  // tracking lost
     const double f = static_cast<double>(i) / static_cast<double>(gt.size());
     pose.t_ns += 1'000'000;
-    pose.p_w_c += Eigen::Vector3d(0.05, -0.02, 0.01) * f + 0.003 * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+    pose.p_w_c +=
+        Eigen::Vector3d(0.05, -0.02, 0.01) * f + 0.003 * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
     pose.p_w_c = 0.5 * (R_world * pose.p_w_c) + Eigen::Vector3d(1, 2, 3);
     const Eigen::Vector3d dphi = 0.005 * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
     pose.q_w_c = R_world * pose.q_w_c * Eigen::Quaterniond(Eigen::AngleAxisd(dphi.norm(), dphi.normalized()));
@@ -223,7 +228,8 @@ TEST_F(EvalCli, AgreesWithIndependentRpgProcedureAcrossAGroundTruthJump) {
   writeTumTrajectory(path("jump_gt.txt"), gt);
   writeTumTrajectory(path("jump_est.txt"), est);
   const std::string out_dir = (dir_ / "jump").string();
-  const Output out = run("eval --gt " + path("jump_gt.txt") + " --est " + path("jump_est.txt") + " --out " + out_dir);
+  const Output out =
+      run("eval --gt " + path("jump_gt.txt") + " --est " + path("jump_est.txt") + " --out " + out_dir);
   ASSERT_EQ(out.status, 0) << out.text;
   EXPECT_NE(out.text.find("rpg's shifted start index"), std::string::npos) << out.text;
   EXPECT_EQ(crosscheck(path("jump_gt.txt"), path("jump_est.txt"), out_dir), "");

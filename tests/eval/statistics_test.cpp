@@ -11,7 +11,7 @@ TEST(Stats, HandComputed) {
   const Stats s = computeStats({4, 1, 3, 2});
   EXPECT_DOUBLE_EQ(s.rmse, std::sqrt(30.0 / 4.0));
   EXPECT_DOUBLE_EQ(s.mean, 2.5);
-  EXPECT_DOUBLE_EQ(s.median, 2.5);  // mean of the two middle values, as numpy
+  EXPECT_DOUBLE_EQ(s.median, 2.5);           // mean of the two middle values, as numpy
   EXPECT_DOUBLE_EQ(s.std, std::sqrt(1.25));  // population std (ddof = 0), as numpy
   EXPECT_DOUBLE_EQ(s.min, 1);
   EXPECT_DOUBLE_EQ(s.max, 4);

@@ -31,14 +31,14 @@ class Timing : public ::testing::Test {
 
 TEST_F(Timing, PerStageStatisticsAndRealTimeFactor) {
   // 5 updates over 2 s of event time; total 1+2+3+4+10 = 20 ms -> real-time factor 0.01.
-  const TimingStats s = readTimingStats(write(
-      "t_s, window_size, solve_ms, total_ms\n"
-      "1.0, 10, 0.5, 1\n"
-      "1.5, 12, 1.5, 2\n"
-      "# a comment\n"
-      "2.0, 14, 2.5, 3\n"
-      "2.5, 16, 3.5, 4\n"
-      "3.0, 18, 9.5, 10\n"));
+  const TimingStats s =
+      readTimingStats(write("t_s, window_size, solve_ms, total_ms\n"
+                            "1.0, 10, 0.5, 1\n"
+                            "1.5, 12, 1.5, 2\n"
+                            "# a comment\n"
+                            "2.0, 14, 2.5, 3\n"
+                            "2.5, 16, 3.5, 4\n"
+                            "3.0, 18, 9.5, 10\n"));
   EXPECT_EQ(s.updates, 5u);
   EXPECT_DOUBLE_EQ(s.t_first_s, 1.0);
   EXPECT_DOUBLE_EQ(s.t_last_s, 3.0);

@@ -183,7 +183,8 @@ TEST(Evaluate, SimilarityTransformedCopyHasZeroError) {
   // Lengths are 10 … 50 % of the GT path, truncated to cm.
   EXPECT_NEAR(r.relative[0].length_m, std::trunc(0.1 * r.gt_path_length_m * 100.0) / 100.0, 0.0);
   EXPECT_EQ(r.pooled_trans.num_samples, r.relative[0].trans.num_samples + r.relative[1].trans.num_samples +
-                                            r.relative[2].trans.num_samples + r.relative[3].trans.num_samples +
+                                            r.relative[2].trans.num_samples +
+                                            r.relative[3].trans.num_samples +
                                             r.relative[4].trans.num_samples);
 }
 
@@ -206,7 +207,8 @@ TEST(Evaluate, Se3AndPosYawAlignRigidCopies) {
 
 TEST(Evaluate, ConstantOffsetWithoutAlignment) {
   const StampedTrajectory gt = helix(500);
-  const StampedTrajectory est = transformed(gt, 1.0, Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0.3, 0.4));
+  const StampedTrajectory est =
+      transformed(gt, 1.0, Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0.3, 0.4));
   EvalOptions options;
   options.align = AlignType::kNone;
   const EvalResult r = evaluate(gt, est, options);

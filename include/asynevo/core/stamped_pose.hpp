@@ -12,7 +12,7 @@ namespace asynevo {
 /// One pose T_w_c at time t_ns: p_w = q_w_c * p_c + p_w_c.
 struct StampedPose {
   int64_t t_ns = 0;
-  Eigen::Vector3d p_w_c = Eigen::Vector3d::Zero();         ///< camera position in the world
+  Eigen::Vector3d p_w_c = Eigen::Vector3d::Zero();            ///< camera position in the world
   Eigen::Quaterniond q_w_c = Eigen::Quaterniond::Identity();  ///< camera-to-world rotation (unit)
 };
 

@@ -47,7 +47,8 @@ Similarity umeyama(const Eigen::Matrix3Xd& model, const Eigen::Matrix3Xd& data, 
 /// Aligns associated estimate poses to ground-truth poses (same length, index i ↔ i) with `type`,
 /// using the first `num_frames` pairs (−1 = all). Throws EvalError for num_frames = 0, < −1, larger
 /// than the number of pairs, or 1 with sim3.
-Similarity alignTrajectory(const std::vector<Eigen::Vector3d>& p_est, const std::vector<Eigen::Matrix3d>& R_est,
+Similarity alignTrajectory(const std::vector<Eigen::Vector3d>& p_est,
+                           const std::vector<Eigen::Matrix3d>& R_est,
                            const std::vector<Eigen::Vector3d>& p_gt, const std::vector<Eigen::Matrix3d>& R_gt,
                            AlignType type, int num_frames = -1);
 

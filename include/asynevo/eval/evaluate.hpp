@@ -18,11 +18,11 @@ namespace asynevo::eval {
 
 struct EvalOptions {
   AlignType align = AlignType::kSim3;
-  int align_frames = -1;                        ///< −1 = all associated poses
+  int align_frames = -1;  ///< −1 = all associated poses
   int64_t max_time_diff_ns = kDefaultMaxTimeDiffNs;
-  std::vector<double> rel_lengths_m;            ///< given lengths (m); empty = use percentages
+  std::vector<double> rel_lengths_m;  ///< given lengths (m); empty = use percentages
   std::vector<double> rel_percentages = {0.1, 0.2, 0.3, 0.4, 0.5};  ///< of the GT path length
-  bool rpg_start_indexing = true;               ///< see RelativeErrorOptions
+  bool rpg_start_indexing = true;                                   ///< see RelativeErrorOptions
 };
 
 struct EvalResult {
@@ -35,14 +35,14 @@ struct EvalResult {
   double gt_path_length_m = 0.0;          ///< whole ground truth (rpg: percentages refer to this)
   double matched_gt_path_length_m = 0.0;  ///< associated ground-truth poses only
 
-  PosePairs pairs;                       ///< associated poses (unaligned estimate)
+  PosePairs pairs;  ///< associated poses (unaligned estimate)
   std::vector<Match> matches;
   Similarity alignment;
   AbsoluteErrors ate;
-  std::vector<RelativeErrors> relative;  ///< one per length, in the order requested
+  std::vector<RelativeErrors> relative;               ///< one per length, in the order requested
   Stats pooled_trans, pooled_trans_perc, pooled_rot;  ///< all lengths' samples together
 
-  std::vector<std::string> warnings;     ///< things a user should know (shown by the CLI)
+  std::vector<std::string> warnings;  ///< things a user should know (shown by the CLI)
 };
 
 /// Evaluates `est` against `gt`. Throws EvalError when nothing associates (with both time spans in

@@ -16,10 +16,10 @@ struct ColumnStats {
 };
 
 struct TimingStats {
-  std::size_t updates = 0;              ///< data rows
+  std::size_t updates = 0;  ///< data rows
   double t_first_s = 0.0, t_last_s = 0.0;
-  std::vector<ColumnStats> stages;      ///< "*_ms" columns, in file order (total_ms included)
-  std::vector<ColumnStats> others;      ///< other numeric columns except the time
+  std::vector<ColumnStats> stages;  ///< "*_ms" columns, in file order (total_ms included)
+  std::vector<ColumnStats> others;  ///< other numeric columns except the time
   bool has_total = false;
   double total_ms_sum = 0.0;
   /// Backend real-time factor: Σ total_ms / 1000 / (t_last − t_first); < 1 is faster than real

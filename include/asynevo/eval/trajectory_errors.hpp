@@ -23,8 +23,8 @@ struct PosePairs {
 
 /// Per-pose absolute errors after alignment.
 struct AbsoluteErrors {
-  std::vector<double> trans_m;     ///< ‖p_gt − (s R p_est + t)‖
-  std::vector<double> rot_deg;     ///< angle of (R R_est)·R_gtᵀ, as rpg (logmap norm)
+  std::vector<double> trans_m;  ///< ‖p_gt − (s R p_est + t)‖
+  std::vector<double> rot_deg;  ///< angle of (R R_est)·R_gtᵀ, as rpg (logmap norm)
   std::vector<double> scale_perc;  ///< rpg's "scale" error: |‖p_est,aligned‖/‖p_gt‖ − 1|·100 (see docs)
   Stats trans, rot, scale;
 };
@@ -66,7 +66,7 @@ struct RelativeErrorOptions {
 /// relative translation multiplied by `scale` (the Sim(3) alignment scale; 1 otherwise), using
 /// travelled distances `distances` of the associated ground truth. Error transform
 /// E = (T_gt,i⁻¹ T_gt,j)⁻¹ (T_est,i⁻¹ T_est,j) rotated into the world frame by R_est,j.
-RelativeErrors computeRelativeErrors(const PosePairs& pairs, const std::vector<double>& distances, double length,
-                                     double scale, const RelativeErrorOptions& options = {});
+RelativeErrors computeRelativeErrors(const PosePairs& pairs, const std::vector<double>& distances,
+                                     double length, double scale, const RelativeErrorOptions& options = {});
 
 }  // namespace asynevo::eval

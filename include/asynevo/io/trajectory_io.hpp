@@ -20,10 +20,10 @@ namespace asynevo {
 
 /// What a reader noticed besides the data.
 struct TrajectoryReadReport {
-  uint64_t records = 0;                 ///< poses (or twists) read
-  uint64_t skipped_lines = 0;           ///< blank and comment lines
-  uint64_t normalized_quaternions = 0;  ///< quaternions whose |norm - 1| exceeded kQuaternionNormTolerance
-  uint64_t first_normalized_line = 0;   ///< line of the first such quaternion (0 = none)
+  uint64_t records = 0;                    ///< poses (or twists) read
+  uint64_t skipped_lines = 0;              ///< blank and comment lines
+  uint64_t normalized_quaternions = 0;     ///< quaternions whose |norm - 1| exceeded kQuaternionNormTolerance
+  uint64_t first_normalized_line = 0;      ///< line of the first such quaternion (0 = none)
   double max_quaternion_norm_error = 0.0;  ///< largest |norm - 1| seen
 };
 
