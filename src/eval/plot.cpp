@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -67,6 +68,8 @@ int runPlotScript(const std::string& run_dir, const std::vector<std::string>& ex
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
+  std::fflush(stdout);  // keep our output before the script's
+  std::fflush(stderr);
   pid_t pid = 0;
   const int rc = python.find('/') == std::string::npos
                      ? posix_spawnp(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ)
