@@ -26,7 +26,9 @@ const std::vector<Event>& slice(const std::string& name) {
   static std::map<std::string, std::vector<Event>> cache;
   auto it = cache.find(name);
   if (it == cache.end())
-    it = cache.emplace(name, readAllEvents(std::string(ASYNEVO_SOURCE_DIR) + "/tests/data/ecd/" + name + "/events.txt"))
+    it = cache
+             .emplace(name, readAllEvents(std::string(ASYNEVO_SOURCE_DIR) + "/tests/data/ecd/" + name +
+                                          "/events.txt"))
              .first;
   return it->second;
 }
@@ -49,8 +51,9 @@ const char* streamName(int index) {
 
 void setCounters(benchmark::State& state, std::size_t events_per_iteration) {
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * events_per_iteration));
-  state.counters["ns/event"] = benchmark::Counter(static_cast<double>(state.iterations() * events_per_iteration),
-                                                  benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["ns/event"] =
+      benchmark::Counter(static_cast<double>(state.iterations() * events_per_iteration),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 void BM_SaeUpdate(benchmark::State& state) {
@@ -78,7 +81,8 @@ void detectorBench(benchmark::State& state, DetectorKind kind) {
     for (const Event& e : events) corners += det.detect(e, sae.update(e)).corner;
   }
   state.SetLabel(streamName(static_cast<int>(state.range(0))));
-  state.counters["corner %"] = 100.0 * static_cast<double>(corners) / static_cast<double>(state.iterations() * events.size());
+  state.counters["corner %"] =
+      100.0 * static_cast<double>(corners) / static_cast<double>(state.iterations() * events.size());
   setCounters(state, events.size());
 }
 void BM_SaeAndFaHarris(benchmark::State& state) { detectorBench(state, DetectorKind::kFaHarris); }
@@ -109,8 +113,10 @@ void hasteBench(benchmark::State& state, HasteVariant variant) {
       used += r != TrackerResult::kOutOfRange;
     }
   }
-  state.counters["in-range %"] = 100.0 * static_cast<double>(used) / static_cast<double>(state.iterations() * events.size());
-  state.counters["switch %"] = 100.0 * static_cast<double>(changes) / static_cast<double>(std::max<uint64_t>(1, used));
+  state.counters["in-range %"] =
+      100.0 * static_cast<double>(used) / static_cast<double>(state.iterations() * events.size());
+  state.counters["switch %"] =
+      100.0 * static_cast<double>(changes) / static_cast<double>(std::max<uint64_t>(1, used));
   setCounters(state, events.size());
 }
 void BM_HasteDifferenceStar(benchmark::State& state) { hasteBench(state, HasteVariant::kDifferenceStar); }
@@ -128,7 +134,8 @@ void frontendBench(benchmark::State& state, const std::string& tracker) {
   FrontendConfig config;
   config.tracker = tracker;
   if (state.range(1) > 0) config.max_features = static_cast<int>(state.range(1));
-  const CameraModel camera = readEcdCalibration(std::string(ASYNEVO_SOURCE_DIR) + "/tests/data/ecd/shapes_rotation/calib.txt");
+  const CameraModel camera =
+      readEcdCalibration(std::string(ASYNEVO_SOURCE_DIR) + "/tests/data/ecd/shapes_rotation/calib.txt");
   const auto table = camera.undistortionTable<float>();
   FrontendStats stats;
   for (auto _ : state) {
@@ -145,22 +152,30 @@ void frontendBench(benchmark::State& state, const std::string& tracker) {
   state.SetLabel(streamName(index));
   state.counters["Mev/s stream"] = stats.perSecond(stats.events) * 1e-6;
   state.counters["features"] = stats.meanActiveFeatures();
-  state.counters["updates/ev"] = static_cast<double>(stats.tracker_updates) / static_cast<double>(stats.events);
+  state.counters["updates/ev"] =
+      static_cast<double>(stats.tracker_updates) / static_cast<double>(stats.events);
   state.counters["detect/ev"] = static_cast<double>(stats.detector_runs) / static_cast<double>(stats.events);
   state.counters["meas/s"] = stats.perSecond(stats.measurements);
   state.counters["created"] = static_cast<double>(stats.features_created);
-  state.counters["drop quality"] = static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kQuality)]);
-  state.counters["drop border"] = static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kBorder)]);
-  state.counters["drop idle"] = static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kIdle)]);
+  state.counters["drop quality"] =
+      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kQuality)]);
+  state.counters["drop border"] =
+      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kBorder)]);
+  state.counters["drop idle"] =
+      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kIdle)]);
   state.counters["drop collision"] =
       static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kCollision)]);
   state.counters["created"] = static_cast<double>(stats.features_created);
-  state.counters["drop quality"] = static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kQuality)]);
-  state.counters["drop border"] = static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kBorder)]);
-  state.counters["drop idle"] = static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kIdle)]);
+  state.counters["drop quality"] =
+      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kQuality)]);
+  state.counters["drop border"] =
+      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kBorder)]);
+  state.counters["drop idle"] =
+      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kIdle)]);
   state.counters["drop collision"] =
       static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kCollision)]);
-  state.counters["switch %"] = 100.0 * static_cast<double>(stats.state_changes) / static_cast<double>(stats.tracker_updates);
+  state.counters["switch %"] =
+      100.0 * static_cast<double>(stats.state_changes) / static_cast<double>(stats.tracker_updates);
   setCounters(state, events.size());
 }
 void BM_FrontendDifferenceStar(benchmark::State& state) { frontendBench(state, "haste_difference_star"); }
@@ -173,7 +188,13 @@ BENCHMARK(BM_SaeAndArcStar)->DenseRange(0, 4)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SaeAndFaHarris)->DenseRange(0, 4)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_HasteDifferenceStar)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_HasteCorrelationStar)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_FrontendDifferenceStar)->ArgsProduct({{0, 1, 2, 3, 4}, {0}})->Args({4, 100})->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_FrontendCorrelationStar)->ArgsProduct({{0, 1, 2, 3, 4}, {0}})->Args({4, 100})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FrontendDifferenceStar)
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {0}})
+    ->Args({4, 100})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FrontendCorrelationStar)
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {0}})
+    ->Args({4, 100})
+    ->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -9,9 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <map>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -73,10 +73,15 @@ void evaluateSynthetic(const Config& config) {
   }
   std::sort(errors.begin(), errors.end());
   std::sort(lifetimes.begin(), lifetimes.end());
-  auto q = [](const std::vector<double>& v, double f) { return v.empty() ? 0.0 : v[std::size_t(f * (v.size() - 1))]; };
-  const double above5 = static_cast<double>(errors.end() - std::upper_bound(errors.begin(), errors.end(), 5.0));
-  fmt::print("track error px    median {:.3f}  p90 {:.3f}  >5px {:.1f} %  over {} measurements of {} tracks\n",
-             q(errors, 0.5), q(errors, 0.9), 100 * above5 / std::max<std::size_t>(1, errors.size()), errors.size(), used);
+  auto q = [](const std::vector<double>& v, double f) {
+    return v.empty() ? 0.0 : v[std::size_t(f * (v.size() - 1))];
+  };
+  const double above5 =
+      static_cast<double>(errors.end() - std::upper_bound(errors.begin(), errors.end(), 5.0));
+  fmt::print(
+      "track error px    median {:.3f}  p90 {:.3f}  >5px {:.1f} %  over {} measurements of {} tracks\n",
+      q(errors, 0.5), q(errors, 0.9), 100 * above5 / std::max<std::size_t>(1, errors.size()), errors.size(),
+      used);
   fmt::print("bad tracks        {} with error > 5 px surviving > 20 ms after it\n", bad_tracks);
   fmt::print("lifetime s        median {:.4f}  p90 {:.4f}\n", q(lifetimes, 0.5), q(lifetimes, 0.9));
 }
@@ -109,14 +114,16 @@ int main(int argc, char** argv) {
     }
     const std::vector<Event> events = readAllEvents(dir + "/events.txt");
     const CameraModel camera = readEcdCalibration(dir + "/calib.txt");
-    frontend::Frontend fe(config.frontend, camera.width(), camera.height(), camera.undistortionTable<float>());
+    frontend::Frontend fe(config.frontend, camera.width(), camera.height(),
+                          camera.undistortionTable<float>());
     frontend::MeasurementCollector out;
     for (const Event& e : events) fe.process(e, out);
     fe.finish(out);
     fmt::print("== {}\n{}", dir, fe.stats().summary());
     if (!tracks_path.empty()) {
       std::ofstream f(tracks_path);
-      for (const auto& m : out.measurements) f << fmt::format("{} {:.9f} {:.3f} {:.3f}\n", m.feature_id, m.t_ns * 1e-9, m.x, m.y);
+      for (const auto& m : out.measurements)
+        f << fmt::format("{} {:.9f} {:.3f} {:.3f}\n", m.feature_id, m.t_ns * 1e-9, m.x, m.y);
     }
     frontend::RotationFitOptions options;
     options.with_acceleration = accel;
@@ -124,13 +131,15 @@ int main(int argc, char** argv) {
       const auto r = frontend::fitCommonRotation(out.measurements, camera.fx(), camera.fy(), options);
       fmt::print("rotation fit      {} tracks ({} excluded), {} measurements, {} iterations\n", r.tracks_used,
                  r.tracks_excluded, r.measurements, r.iterations);
-      fmt::print("residual px       median {:.3f}  p90 {:.3f}  rms {:.3f}  >3px {:.1f} %\n", r.median_px, r.p90_px,
-                 r.rms_px, 100 * r.share_above_3px);
+      fmt::print("residual px       median {:.3f}  p90 {:.3f}  rms {:.3f}  >3px {:.1f} %\n", r.median_px,
+                 r.p90_px, r.rms_px, 100 * r.share_above_3px);
       fmt::print("lifetime s        median {:.4f}  mean {:.4f}  max {:.4f}\n", r.lifetime_median_s,
                  r.lifetime_mean_s, r.lifetime_max_s);
       fmt::print("omega fit         {:+.3f} {:+.3f} {:+.3f} rad/s (|w| {:.3f})\n", r.omega.x(), r.omega.y(),
                  r.omega.z(), r.omega.norm());
-      if (accel) fmt::print("alpha fit         {:+.2f} {:+.2f} {:+.2f} rad/s^2\n", r.alpha.x(), r.alpha.y(), r.alpha.z());
+      if (accel)
+        fmt::print("alpha fit         {:+.2f} {:+.2f} {:+.2f} rad/s^2\n", r.alpha.x(), r.alpha.y(),
+                   r.alpha.z());
     } catch (const std::exception& e) {
       fmt::print("rotation fit      not possible: {}\n", e.what());
     }
@@ -140,9 +149,10 @@ int main(int argc, char** argv) {
       fmt::print("motion.txt gyro   {:+.3f} {:+.3f} {:+.3f} rad/s (|w| {:.3f})\n", wx, wy, wz,
                  Eigen::Vector3d(wx, wy, wz).norm());
     if (std::filesystem::exists(dir + "/groundtruth.txt")) {
-      const Eigen::Vector3d w = mocapAngularVelocity(dir + "/groundtruth.txt", events.front().t_ns, events.back().t_ns);
-      fmt::print("mocap mean        {:+.3f} {:+.3f} {:+.3f} rad/s (|w| {:.3f}) over the slice\n", w.x(), w.y(), w.z(),
-                 w.norm());
+      const Eigen::Vector3d w =
+          mocapAngularVelocity(dir + "/groundtruth.txt", events.front().t_ns, events.back().t_ns);
+      fmt::print("mocap mean        {:+.3f} {:+.3f} {:+.3f} rad/s (|w| {:.3f}) over the slice\n", w.x(),
+                 w.y(), w.z(), w.norm());
     }
   }
   return 0;

@@ -31,14 +31,17 @@ inline std::vector<Event> syntheticStream(int width, int height, double duration
   for (int k = 0; k < squares * 6; ++k) {  // texture area ~6x the sensor
     const double x0 = ux(rng), y0 = uy(rng), s = us(rng);
     for (int y = std::max(0, int(y0)); y < std::min(th, int(y0 + s) + 1); ++y)
-      for (int x = std::max(0, int(x0)); x < std::min(tw, int(x0 + s) + 1); ++x) tex[std::size_t(y) * tw + x] = 1.f;
+      for (int x = std::max(0, int(x0)); x < std::min(tw, int(x0 + s) + 1); ++x)
+        tex[std::size_t(y) * tw + x] = 1.f;
   }
   auto sample = [&](double x, double y) {  // bilinear = 1-px ramp at edges
     const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
     const double fx = x - x0, fy = y - y0;
-    auto at = [&](int xx, int yy) { return tex[std::size_t(std::clamp(yy, 0, th - 1)) * tw + std::clamp(xx, 0, tw - 1)]; };
-    return (1 - fx) * (1 - fy) * at(x0, y0) + fx * (1 - fy) * at(x0 + 1, y0) + (1 - fx) * fy * at(x0, y0 + 1) +
-           fx * fy * at(x0 + 1, y0 + 1);
+    auto at = [&](int xx, int yy) {
+      return tex[std::size_t(std::clamp(yy, 0, th - 1)) * tw + std::clamp(xx, 0, tw - 1)];
+    };
+    return (1 - fx) * (1 - fy) * at(x0, y0) + fx * (1 - fy) * at(x0 + 1, y0) +
+           (1 - fx) * fy * at(x0, y0 + 1) + fx * fy * at(x0 + 1, y0 + 1);
   };
   auto offset = [&](double t, double& ox, double& oy) { syntheticOffset(speed_px_s, t, ox, oy); };
   std::vector<uint8_t> level(static_cast<std::size_t>(width) * height);
@@ -46,7 +49,8 @@ inline std::vector<Event> syntheticStream(int width, int height, double duration
   offset(0, ox, oy);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x)
-      level[std::size_t(y) * width + x] = static_cast<uint8_t>(std::floor(sample(x + ox + 100, y + oy) * kLevels + 1e-9));
+      level[std::size_t(y) * width + x] =
+          static_cast<uint8_t>(std::floor(sample(x + ox + 100, y + oy) * kLevels + 1e-9));
   std::vector<Event> events;
   std::uniform_int_distribution<int> rx(0, width - 1), ry(0, height - 1);
   std::uniform_real_distribution<double> u01(0, 1);

@@ -10,16 +10,32 @@
 namespace asynevo::frontend {
 
 const ArcCircle& smallArcCircle() {
-  static const ArcCircle c{16, 3, 6, {{{0, 3}, {1, 3}, {2, 2}, {3, 1}, {3, 0}, {3, -1}, {2, -2}, {1, -3},
-                                      {0, -3}, {-1, -3}, {-2, -2}, {-3, -1}, {-3, 0}, {-3, 1}, {-2, 2},
-                                      {-1, 3}}}};
+  static const ArcCircle c{16,
+                           3,
+                           6,
+                           {{{0, 3},
+                             {1, 3},
+                             {2, 2},
+                             {3, 1},
+                             {3, 0},
+                             {3, -1},
+                             {2, -2},
+                             {1, -3},
+                             {0, -3},
+                             {-1, -3},
+                             {-2, -2},
+                             {-3, -1},
+                             {-3, 0},
+                             {-3, 1},
+                             {-2, 2},
+                             {-1, 3}}}};
   return c;
 }
 
 const ArcCircle& largeArcCircle() {
-  static const ArcCircle c{20, 4, 8, {{{0, 4}, {1, 4}, {2, 3}, {3, 2}, {4, 1}, {4, 0}, {4, -1}, {3, -2},
-                                      {2, -3}, {1, -4}, {0, -4}, {-1, -4}, {-2, -3}, {-3, -2}, {-4, -1},
-                                      {-4, 0}, {-4, 1}, {-3, 2}, {-2, 3}, {-1, 4}}}};
+  static const ArcCircle c{20, 4, 8, {{{0, 4},   {1, 4},  {2, 3},  {3, 2},  {4, 1},   {4, 0},   {4, -1},
+                                       {3, -2},  {2, -3}, {1, -4}, {0, -4}, {-1, -4}, {-2, -3}, {-3, -2},
+                                       {-4, -1}, {-4, 0}, {-4, 1}, {-3, 2}, {-2, 3},  {-1, 4}}}};
   return c;
 }
 
@@ -87,7 +103,8 @@ double harrisScore(const BinaryPatch& patch, double k) {
     std::array<double, 25> h{};
     double sum = 0;
     for (int v = 0; v < 5; ++v)
-      for (int u = 0; u < 5; ++u) sum += h[v * 5 + u] = std::exp(-((u - 2) * (u - 2) + (v - 2) * (v - 2)) / 2.0);
+      for (int u = 0; u < 5; ++u)
+        sum += h[v * 5 + u] = std::exp(-((u - 2) * (u - 2) + (v - 2) * (v - 2)) / 2.0);
     for (double& x : h) x /= sum;
     return h;
   }();

@@ -16,18 +16,27 @@ namespace asynevo::frontend {
 
 const char* dropReasonName(DropReason reason) {
   switch (reason) {
-    case DropReason::kBorder: return "border";
-    case DropReason::kCollision: return "collision";
-    case DropReason::kIdle: return "idle";
-    case DropReason::kInitTimeout: return "init_timeout";
-    case DropReason::kQuality: return "quality";
-    case DropReason::kUnhealthy: return "unhealthy";
-    case DropReason::kFinished: return "finished";
+    case DropReason::kBorder:
+      return "border";
+    case DropReason::kCollision:
+      return "collision";
+    case DropReason::kIdle:
+      return "idle";
+    case DropReason::kInitTimeout:
+      return "init_timeout";
+    case DropReason::kQuality:
+      return "quality";
+    case DropReason::kUnhealthy:
+      return "unhealthy";
+    case DropReason::kFinished:
+      return "finished";
   }
   return "?";
 }
 
-double FrontendStats::spanSeconds() const { return events == 0 ? 0.0 : durationSeconds(first_t_ns, last_t_ns); }
+double FrontendStats::spanSeconds() const {
+  return events == 0 ? 0.0 : durationSeconds(first_t_ns, last_t_ns);
+}
 
 double FrontendStats::perSecond(uint64_t count) const {
   const double span = spanSeconds();
@@ -47,7 +56,8 @@ std::string FrontendStats::summary() const {
                    dropped_out_of_sensor, dropped_time_reversal, clamped_time);
   s += fmt::format("detector          {} runs, {} candidates, {} corners ({:.0f} corners/s)\n", detector_runs,
                    candidates, corners, perSecond(corners));
-  s += fmt::format("trackers          {} in-range updates, {} state changes\n", tracker_updates, state_changes);
+  s += fmt::format("trackers          {} in-range updates, {} state changes\n", tracker_updates,
+                   state_changes);
   s += fmt::format("features          {} created, {} active now, {:.1f} active on average, {} at most\n",
                    features_created, active_features, meanActiveFeatures(), max_active_features);
   s += "features dropped ";
@@ -128,7 +138,8 @@ DetectorParams detectorParams(const FrontendConfig& c) {
 
 HasteParams hasteParams(const FrontendConfig& c) {
   HasteParams p;
-  p.variant = c.tracker == "haste_correlation_star" ? HasteVariant::kCorrelationStar : HasteVariant::kDifferenceStar;
+  p.variant =
+      c.tracker == "haste_correlation_star" ? HasteVariant::kCorrelationStar : HasteVariant::kDifferenceStar;
   p.hysteresis = c.haste_hysteresis;
   p.template_update = c.haste_template_update;
   return p;
@@ -159,8 +170,8 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
       border_margin_(static_cast<float>(config.border_margin_px)) {
   config.validate();
   if (undistortion_.width() != 0 && (undistortion_.width() != width || undistortion_.height() != height))
-    throw Error(fmt::format("frontend: undistortion table is {}x{} but the sensor is {}x{}", undistortion_.width(),
-                            undistortion_.height(), width, height));
+    throw Error(fmt::format("frontend: undistortion table is {}x{} but the sensor is {}x{}",
+                            undistortion_.width(), undistortion_.height(), width, height));
   const HasteParams haste = hasteParams(config);
   free_slots_.reserve(slots_.size());
   for (int i = static_cast<int>(slots_.size()) - 1; i >= 0; --i) {
@@ -185,10 +196,10 @@ bool Frontend::normalize(float x, float y, float& xn, float& yn) const {
       !undistortion_.valid(x0 + 1, y0 + 1))
     return false;
   const float w00 = (1 - fx) * (1 - fy), w10 = fx * (1 - fy), w01 = (1 - fx) * fy, w11 = fx * fy;
-  xn = w00 * undistortion_.xn(x0, y0) + w10 * undistortion_.xn(x0 + 1, y0) + w01 * undistortion_.xn(x0, y0 + 1) +
-       w11 * undistortion_.xn(x0 + 1, y0 + 1);
-  yn = w00 * undistortion_.yn(x0, y0) + w10 * undistortion_.yn(x0 + 1, y0) + w01 * undistortion_.yn(x0, y0 + 1) +
-       w11 * undistortion_.yn(x0 + 1, y0 + 1);
+  xn = w00 * undistortion_.xn(x0, y0) + w10 * undistortion_.xn(x0 + 1, y0) +
+       w01 * undistortion_.xn(x0, y0 + 1) + w11 * undistortion_.xn(x0 + 1, y0 + 1);
+  yn = w00 * undistortion_.yn(x0, y0) + w10 * undistortion_.yn(x0 + 1, y0) +
+       w01 * undistortion_.yn(x0, y0 + 1) + w11 * undistortion_.yn(x0 + 1, y0 + 1);
   return true;
 }
 

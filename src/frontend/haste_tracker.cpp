@@ -58,9 +58,9 @@ float HasteTracker::sample(const Patch& p, float xp, float yp) {
 }
 
 void HasteTracker::generateHypotheses() {
-  static constexpr float kOffsets[kHypotheses][3] = {
-      {0, 0, 0},  {1, 0, 0},  {-1, 0, 0},  {0, 1, 0},  {0, -1, 0}, {1, 1, 0},
-      {1, -1, 0}, {-1, 1, 0}, {-1, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+  static constexpr float kOffsets[kHypotheses][3] = {{0, 0, 0},   {1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
+                                                     {0, -1, 0},  {1, 1, 0}, {1, -1, 0}, {-1, 1, 0},
+                                                     {-1, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   for (int h = 0; h < kHypotheses; ++h) {
     Hypothesis& hy = hyps_[h];
     hy.x = state_.x + kOffsets[h][0];
@@ -201,7 +201,8 @@ void HasteDifferenceStar::rebuildScores() {
       float w[4];
       int base;
       if (!stencil(xp[h], yp[h], base, w)) continue;
-      for (int k = 0; k < 4; ++k) diff_[static_cast<std::size_t>(base + kStencilOffset[k]) * kHypotheses + h] -= w[k] * kInvWindow;
+      for (int k = 0; k < 4; ++k)
+        diff_[static_cast<std::size_t>(base + kStencilOffset[k]) * kHypotheses + h] -= w[k] * kInvWindow;
     }
   }
   std::array<double, kHypotheses> sums{};
@@ -261,7 +262,8 @@ void HasteCorrelationStar::updateScores(const WindowEvent& added, const WindowEv
   patchCoordinates(added.x, added.y, xa, ya);
   patchCoordinates(evicted.x, evicted.y, xe, ye);
   for (int h = 0; h < kHypotheses; ++h)
-    scores_[h] += (double(sample(normalized_, xa[h], ya[h])) - double(sample(normalized_, xe[h], ye[h]))) * kInvWindow;
+    scores_[h] +=
+        (double(sample(normalized_, xa[h], ya[h])) - double(sample(normalized_, xe[h], ye[h]))) * kInvWindow;
 }
 
 std::unique_ptr<HasteTracker> makeHasteTracker(const HasteParams& params) {

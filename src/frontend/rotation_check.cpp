@@ -3,7 +3,6 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -26,7 +25,8 @@ Eigen::Matrix3d expSo3(const Eigen::Vector3d& phi) {
 
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0;
-  const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(std::floor(q * (v.size() - 1) + 0.5)));
+  const std::size_t k =
+      std::min(v.size() - 1, static_cast<std::size_t>(std::floor(q * (v.size() - 1) + 0.5)));
   std::nth_element(v.begin(), v.begin() + k, v.end());
   return v[k];
 }
@@ -69,7 +69,8 @@ RotationFitResult fitCommonRotation(const std::vector<TrackMeasurement>& measure
     x(n_global + 2 * j + 1) = tracks[j].m.front()->yn;
   }
   // Residual (pixels) of one measurement given the global parameters g and the track's bearing b.
-  auto residual = [&](const Eigen::VectorXd& g, double u, double v, double t0, double t, double xn, double yn) {
+  auto residual = [&](const Eigen::VectorXd& g, double u, double v, double t0, double t, double xn,
+                      double yn) {
     const Eigen::Vector3d w = g.head<3>();
     Eigen::Vector3d a = Eigen::Vector3d::Zero();
     if (n_global == 6) a = g.segment<3>(3);
@@ -133,7 +134,8 @@ RotationFitResult fitCommonRotation(const std::vector<TrackMeasurement>& measure
   for (int j = 0; j < n_tracks; ++j) {
     const int o = n_global + 2 * j;
     for (const TrackMeasurement* m : tracks[j].m) {
-      const double r = residual(x.head(n_global), x(o), x(o + 1), tracks[j].t0, seconds(m->t_ns), m->xn, m->yn).norm();
+      const double r =
+          residual(x.head(n_global), x(o), x(o + 1), tracks[j].t0, seconds(m->t_ns), m->xn, m->yn).norm();
       result.residuals_px.push_back(r);
       sq += r * r;
     }

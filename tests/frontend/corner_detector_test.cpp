@@ -25,10 +25,10 @@ TEST(ArcStar, ArcLengthOfACleanNewestArcAtEveryDecisionBoundary) {
     int k;
     bool passes;
   };
-  const Case cases[] = {{&s, 3, true},   {&s, 6, true},   {&s, 7, false},  {&s, 9, false},
-                        {&s, 10, true},  {&s, 13, true},  {&s, 14, false}, {&s, 16, false},
-                        {&l, 4, true},   {&l, 8, true},   {&l, 9, false},  {&l, 11, false},
-                        {&l, 12, true},  {&l, 16, true},  {&l, 17, false}, {&l, 20, false}};
+  const Case cases[] = {{&s, 3, true},  {&s, 6, true},  {&s, 7, false},  {&s, 9, false},
+                        {&s, 10, true}, {&s, 13, true}, {&s, 14, false}, {&s, 16, false},
+                        {&l, 4, true},  {&l, 8, true},  {&l, 9, false},  {&l, 11, false},
+                        {&l, 12, true}, {&l, 16, true}, {&l, 17, false}, {&l, 20, false}};
   for (const Case& c : cases) {
     for (int start : {0, 1, c.c->n - 2, c.c->n - 1}) {  // includes wrap-around at index 0
       const auto ring = ringWithArc(c.c->n, c.k, start);

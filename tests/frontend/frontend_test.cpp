@@ -5,7 +5,6 @@
 #include <map>
 
 #include "asynevo/core/error.hpp"
-
 #include "synthetic_events.hpp"
 
 namespace asynevo::frontend {
@@ -51,7 +50,8 @@ TEST(Frontend, TracksCornersOfMovingSquaresWithThrottledMeasurements) {
     EXPECT_GE(ms.front().t_ns, previous_first_t - config.init_timeout_ms * 1e6);
     previous_first_t = ms.front().t_ns;
     for (std::size_t i = 1; i < ms.size(); ++i)
-      EXPECT_GE(ms[i].t_ns - ms[i - 1].t_ns, static_cast<int64_t>(config.min_dt_ms * 1e6)) << "feature " << id;
+      EXPECT_GE(ms[i].t_ns - ms[i - 1].t_ns, static_cast<int64_t>(config.min_dt_ms * 1e6))
+          << "feature " << id;
     // Without an undistortion table xn, yn are the raw coordinates.
     EXPECT_EQ(ms.front().xn, ms.front().x);
   }
@@ -97,7 +97,8 @@ TEST(Frontend, IdleAndNeverInitializedFeaturesTimeOut) {
   MeasurementCollector out;
   for (const Event& e : events) fe.process(e, out);
   const auto& dropped = fe.stats().features_dropped;
-  EXPECT_GT(dropped[static_cast<int>(DropReason::kIdle)] + dropped[static_cast<int>(DropReason::kInitTimeout)] +
+  EXPECT_GT(dropped[static_cast<int>(DropReason::kIdle)] +
+                dropped[static_cast<int>(DropReason::kInitTimeout)] +
                 dropped[static_cast<int>(DropReason::kQuality)],
             0u);
   EXPECT_EQ(fe.activeFeatures(), 0);

@@ -111,7 +111,9 @@ void expectFollowsMovingCorner(HasteVariant variant) {
 }
 
 TEST(Haste, DifferenceStarFollowsAMovingCorner) { expectFollowsMovingCorner(HasteVariant::kDifferenceStar); }
-TEST(Haste, CorrelationStarFollowsAMovingCorner) { expectFollowsMovingCorner(HasteVariant::kCorrelationStar); }
+TEST(Haste, CorrelationStarFollowsAMovingCorner) {
+  expectFollowsMovingCorner(HasteVariant::kCorrelationStar);
+}
 
 TEST(Haste, StaticPatternNeverSwitchesAndThetaIsWrapped) {
   auto tracker = makeHasteTracker(HasteParams{});

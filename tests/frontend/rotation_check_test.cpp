@@ -18,7 +18,8 @@ namespace asynevo::frontend {
 namespace {
 
 // Tracks of static points seen by a camera rotating at constant angular velocity (exact bearings).
-std::vector<TrackMeasurement> rotatingTracks(const Eigen::Vector3d& omega, double noise_px, double fx, int seed) {
+std::vector<TrackMeasurement> rotatingTracks(const Eigen::Vector3d& omega, double noise_px, double fx,
+                                             int seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-0.5, 0.5);
   std::normal_distribution<double> n(0.0, noise_px / fx);
@@ -28,7 +29,8 @@ std::vector<TrackMeasurement> rotatingTracks(const Eigen::Vector3d& omega, doubl
     const double start = 0.01 * (j % 5);
     for (int k = 0; k < 12; ++k) {
       const double t = start + 0.005 * k;
-      const Eigen::Vector3d p = Eigen::AngleAxisd(omega.norm() * t, omega.normalized()).toRotationMatrix().transpose() * p0;
+      const Eigen::Vector3d p =
+          Eigen::AngleAxisd(omega.norm() * t, omega.normalized()).toRotationMatrix().transpose() * p0;
       TrackMeasurement m;
       m.feature_id = j;
       m.t_ns = static_cast<int64_t>(std::llround(t * 1e9));

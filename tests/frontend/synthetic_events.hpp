@@ -14,7 +14,7 @@
 namespace asynevo::frontend::testing {
 
 struct MovingSquare {
-  double x0, y0, size, vx, vy;  // top-left corner at t = 0 (px), side (px), velocity (px/s)
+  double x0, y0, size, vx, vy;      // top-left corner at t = 0 (px), side (px), velocity (px/s)
   double t_start = 0, t_end = 1e9;  // visible interval (s)
   /// Brightness level 0..levels at a pixel centre: signed distance to the outline through a 1-px ramp.
   int level(double px, double py, double t, int levels) const {

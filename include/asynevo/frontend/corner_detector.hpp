@@ -38,8 +38,8 @@ inline bool arcLengthPasses(int length, const ArcCircle& c) {
 
 // ---- Harris score of a binary patch -----------------------------------------------------------
 
-constexpr int kHarrisHalf = 4;                      ///< window half size w
-constexpr int kHarrisSize = 2 * kHarrisHalf + 1;    ///< 9
+constexpr int kHarrisHalf = 4;                                       ///< window half size w
+constexpr int kHarrisSize = 2 * kHarrisHalf + 1;                     ///< 9
 using BinaryPatch = std::array<uint8_t, kHarrisSize * kHarrisSize>;  ///< [dy + 4][dx + 4]
 
 /// Harris score of a binary 9x9 patch as in eHarris/FA-Harris (reference §4.3): 5x5 Sobel-like

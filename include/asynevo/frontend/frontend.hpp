@@ -151,7 +151,9 @@ class Frontend {
     void erase(int64_t id);
 
    private:
-    std::size_t home(int64_t id) const { return (static_cast<uint64_t>(id) * 0x9E3779B97F4A7C15ull) >> shift_; }
+    std::size_t home(int64_t id) const {
+      return (static_cast<uint64_t>(id) * 0x9E3779B97F4A7C15ull) >> shift_;
+    }
     std::vector<int64_t> keys_;
     std::vector<int> values_;
     std::size_t mask_;

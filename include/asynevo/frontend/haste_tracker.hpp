@@ -35,8 +35,8 @@ enum class HasteVariant : uint8_t { kDifferenceStar, kCorrelationStar };
 
 struct HasteParams {
   HasteVariant variant = HasteVariant::kDifferenceStar;
-  double hysteresis = 0.05;       ///< (ref) switch threshold on the normalised score gain
-  double template_update = 0.1;   ///< (ref) alpha; 0 freezes the template after initialization
+  double hysteresis = 0.05;      ///< (ref) switch threshold on the normalised score gain
+  double template_update = 0.1;  ///< (ref) alpha; 0 freezes the template after initialization
 };
 
 struct TrackerState {

@@ -7,10 +7,9 @@
 // tracking error (plus model error, small on 13-99 ms slices). Used on the ECD rotation slices
 // (docs/frontend.md "Accuracy").
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "asynevo/frontend/track_measurement.hpp"
 
@@ -24,13 +23,14 @@ struct RotationFitOptions {
 };
 
 struct RotationFitResult {
-  /// Camera angular velocity (rad/s, camera frame) at t_ref: R_w_c(t) = R_w_c(t_ref) Exp(omega tau + alpha tau^2/2).
+  /// Camera angular velocity (rad/s, camera frame) at t_ref: R_w_c(t) = R_w_c(t_ref) Exp(omega tau + alpha
+  /// tau^2/2).
   Eigen::Vector3d omega = Eigen::Vector3d::Zero();
   Eigen::Vector3d alpha = Eigen::Vector3d::Zero();  ///< rad/s^2 (zero unless fitted)
   int64_t t_ref_ns = 0;                             ///< middle of the measurements' time span
   int tracks_used = 0;
-  int tracks_excluded = 0;  ///< fewer than min_measurements
-  int measurements = 0;     ///< measurements of the used tracks
+  int tracks_excluded = 0;           ///< fewer than min_measurements
+  int measurements = 0;              ///< measurements of the used tracks
   std::vector<double> residuals_px;  ///< norm of each used measurement's residual (undistorted px)
   double median_px = 0, p90_px = 0, rms_px = 0;
   double share_above_3px = 0;

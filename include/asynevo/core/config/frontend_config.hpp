@@ -26,16 +26,16 @@ struct FrontendConfig {
   double haste_template_update = 0.1;             ///< (ref) template update factor alpha (0 = frozen)
 
   // --- feature management -----------------------------------------------------------------------
-  int max_features = 60;               ///< active features at most (seeding stops at this number)
-  double min_distance_px = 15.0;       ///< patch search: no new feature within this of an active one
-  double border_margin_px = 16.0;      ///< features are removed (and never seeded) this close to the border
-  double collision_radius_px = 1.5;    ///< two features closer than this: the younger one is dropped
-  double min_dt_ms = 5.0;              ///< minimum event time between two recorded measurements of a feature
-  double max_idle_ms = 100.0;          ///< a feature without state change for this long is dropped
-  double init_timeout_ms = 100.0;      ///< a tracker not initialized after this long is dropped
-  double housekeeping_ms = 1.0;        ///< period (event time) of the idle/time-out/quality checks
-  double min_anisotropy = 0.06;        ///< quality: min eigenvalue ratio of the window events' spread
-  double max_time_reversal_us = 0.0;   ///< events earlier than their predecessor by more are dropped
+  int max_features = 60;              ///< active features at most (seeding stops at this number)
+  double min_distance_px = 15.0;      ///< patch search: no new feature within this of an active one
+  double border_margin_px = 16.0;     ///< features are removed (and never seeded) this close to the border
+  double collision_radius_px = 1.5;   ///< two features closer than this: the younger one is dropped
+  double min_dt_ms = 5.0;             ///< minimum event time between two recorded measurements of a feature
+  double max_idle_ms = 100.0;         ///< a feature without state change for this long is dropped
+  double init_timeout_ms = 100.0;     ///< a tracker not initialized after this long is dropped
+  double housekeeping_ms = 1.0;       ///< period (event time) of the idle/time-out/quality checks
+  double min_anisotropy = 0.06;       ///< quality: min eigenvalue ratio of the window events' spread
+  double max_time_reversal_us = 0.0;  ///< events earlier than their predecessor by more are dropped
 
   template <class V>
   void visit(V& v) {
