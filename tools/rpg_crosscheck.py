@@ -10,7 +10,7 @@ Usage: rpg_crosscheck.py --gt GT --est EST --eval EVAL_JSON [--tol 1e-6] [--abs-
 Prints every statistic that differs by more than --tol relative and --abs-tol absolute (the
 arccos in the rotation angle leaves ~1e-6 deg of rounding noise near 0 in any implementation) and
 exits 1 if there is one.
-Supports align types sim3/se3/none with all frames (what the C++ tests exercise).
+Supports align types sim3/se3/posyaw/none with all frames (what the C++ tests exercise).
 """
 
 import argparse
@@ -61,7 +61,7 @@ def quat_matrix(q):  # x y z w -> 4x4
                      [0, 0, 0, 1.0]])
 
 
-def umeyama(model, data, with_scale):
+def umeyama(model, data, with_scale, yaw_only=False):
     mu_m, mu_d = model.mean(0), data.mean(0)
     m0, d0 = model - mu_m, data - mu_d
     n = len(model)
@@ -72,6 +72,10 @@ def umeyama(model, data, with_scale):
     if np.linalg.det(U) * np.linalg.det(Vt.T) < 0:
         S[2, 2] = -1
     R = U @ S @ Vt
+    if yaw_only:
+        M = d0.T @ m0
+        th = np.pi / 2 - np.arctan2(M[0, 0] + M[1, 1], M[0, 1] - M[1, 0])
+        R = np.array([[np.cos(th), -np.sin(th), 0], [np.sin(th), np.cos(th), 0], [0, 0, 1.0]])
     s = np.trace(np.diag(D) @ S) / sigma2 if with_scale else 1.0
     return s, R, mu_m - s * R @ mu_d
 
@@ -121,6 +125,8 @@ def main():
         s, R, t = umeyama(p_gt, p_es, True)
     elif align == "se3":
         s, R, t = umeyama(p_gt, p_es, False)
+    elif align == "posyaw":
+        s, R, t = umeyama(p_gt, p_es, False, yaw_only=True)
     else:
         s, R, t = 1.0, np.eye(3), np.zeros(3)
     p_al = s * p_es @ R.T + t

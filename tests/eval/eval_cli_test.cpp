@@ -175,7 +175,8 @@ std::string crosscheck(const std::string& gt, const std::string& est, const std:
 /// The real ECD ground truth against a perturbed, Sim(3)-transformed estimate at a quarter of its
 /// rate with a 5 s gap: 'asynevo eval' must agree with tools/rpg_crosscheck.py, an independent numpy
 /// transcription of rpg_trajectory_evaluation's procedure (all-pairs association, 4x4 inverses,
-/// O(n²) end search, the start-indexing quirk), to 1e-6 relative for every statistic.
+/// O(n²) end search, the start-indexing quirk), to 1e-6 relative for every statistic, with each
+/// alignment type.
 TEST_F(EvalCli, AgreesWithIndependentRpgProcedureOnEcdGroundTruth) {
   if (std::system("/usr/bin/python3 -c 'import numpy' >/dev/null 2>&1") != 0) {
     GTEST_SKIP() << "Debian python3-numpy is not installed";
@@ -200,7 +201,7 @@ TEST_F(EvalCli, AgreesWithIndependentRpgProcedureOnEcdGroundTruth) {
     est.push_back(pose);
   }
   writeTumTrajectory(path("ecd_est.txt"), est);
-  for (const char* align : {"sim3", "se3", "none"}) {
+  for (const char* align : {"sim3", "se3", "posyaw", "none"}) {
     const std::string out_dir = (dir_ / align).string();
     const Output out = run("eval --gt " + gt_path + " --est " + path("ecd_est.txt") + " --align " + align +
                            " --out " + out_dir);
