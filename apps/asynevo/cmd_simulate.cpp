@@ -2,8 +2,10 @@
 // (contract: DESIGN.md §1). The simulator itself is the sim module (docs/simulator.md).
 #include <fmt/format.h>
 
+#include <stdexcept>
 #include <string>
 
+#include "asynevo/core/error.hpp"
 #include "asynevo/core/time.hpp"
 #include "asynevo/io/calibration_io.hpp"
 #include "asynevo/sim/scene.hpp"
@@ -77,6 +79,10 @@ void addSimulateCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--noise-rate", spec.sensor.noise_rate_hz, "background noise events per pixel per second")
       ->capture_default_str();
+  cmd->add_option("--start", spec.start_offset_s, "motion file: start this many seconds after its first pose")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--position-scale", spec.motion_file.position_scale, "motion file: multiply positions by this")
+      ->capture_default_str();
   cmd->add_option("--smoothing-cutoff", spec.motion_file.cutoff_hz,
                   "low-pass cut-off (Hz) for a motion file, 0 = off")
       ->capture_default_str();
@@ -85,7 +91,13 @@ void addSimulateCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--binary", spec.write_binary, "also write events.aevt (binary)");
   cmd->add_option("--threads", spec.sensor.threads, "worker threads")->capture_default_str();
-  cmd->callback([options] { runSimulate(*options); });
+  cmd->callback([options] {
+    try {
+      runSimulate(*options);
+    } catch (const std::invalid_argument& e) {  // a setting out of range: a user error, not an internal one
+      throw Error(std::string("simulate: ") + e.what());
+    }
+  });
 }
 
 }  // namespace asynevo::cli

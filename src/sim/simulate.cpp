@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -109,12 +110,15 @@ std::unique_ptr<Motion> makeMotion(const SimulationSpec& spec) {
     throw InputError(spec.motion, fmt::format("no such motion file (presets: {})", fmt::join(motionPresetNames(), ", ")));
   }
   MotionFileOptions options = spec.motion_file;
-  if (spec.duration_s > 0) {
-    // Window [first pose, first pose + duration]: find the first time without smoothing the whole file.
+  if (spec.start_offset_s < 0 || !std::isfinite(spec.start_offset_s)) {
+    throw std::invalid_argument(fmt::format("start offset must not be negative, got {}", spec.start_offset_s));
+  }
+  if (spec.duration_s > 0 || spec.start_offset_s > 0) {
+    // Window [first pose + offset, ... + duration]: the file's first time is needed first.
     const StampedTrajectory samples = readTumTrajectory(spec.motion);
     if (samples.empty()) throw InputError(spec.motion, "no poses in the file");
-    options.begin_ns = std::max(options.begin_ns, samples.front().t_ns);
-    options.end_ns = std::min(options.end_ns, options.begin_ns + secondsToNs(spec.duration_s));
+    options.begin_ns = std::max(options.begin_ns, samples.front().t_ns + secondsToNs(spec.start_offset_s));
+    if (spec.duration_s > 0) options.end_ns = std::min(options.end_ns, options.begin_ns + secondsToNs(spec.duration_s));
   }
   return loadMotionFile(spec.motion, options);
 }

@@ -111,6 +111,11 @@ TEST(SimulateToFolder, MotionFileSpanAndGroundTruth) {
   const SimulationResult windowed = simulateToFolder(spec, dir.file("windowed"));
   EXPECT_EQ(windowed.begin_ns, part.front().t_ns);
   EXPECT_EQ(windowed.end_ns, part.front().t_ns + 200'000'000);
+
+  spec.start_offset_s = 0.1;
+  const auto offset = makeMotion(spec);
+  EXPECT_EQ(offset->beginNs(), part.front().t_ns + 100'000'000);
+  EXPECT_EQ(offset->endNs(), part.front().t_ns + 300'000'000);
 }
 
 TEST(SimulateToFolder, SceneFileWithImageTexture) {

@@ -26,6 +26,7 @@ struct SimulationSpec {
   std::string scene = "shapes";     ///< built-in scene name or scene file (YAML)
   std::string motion = "6dof";      ///< motion preset or TUM/ECD ground-truth file
   double duration_s = 0;            ///< 0 = preset default (5 s) or the whole span of a motion file
+  double start_offset_s = 0;        ///< motion files: start this long after the file's first pose
   uint64_t seed = 1;
   std::optional<CameraModel> camera;  ///< default: the ECD DAVIS240C calibration (radtan, 240x180)
   EventSimConfig sensor;
