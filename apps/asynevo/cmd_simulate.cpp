@@ -26,7 +26,8 @@ struct SimulateOptions {
 };
 
 void runSimulate(SimulateOptions& options) {
-  if (!options.calib.empty()) options.spec.camera = readCalibration(options.calib, options.width, options.height);
+  if (!options.calib.empty())
+    options.spec.camera = readCalibration(options.calib, options.width, options.height);
   Progress progress;
   int64_t first_t_ns = 0;
   const sim::SimulationResult r =
@@ -39,7 +40,8 @@ void runSimulate(SimulateOptions& options) {
   const double span = durationSeconds(r.begin_ns, r.end_ns);
   fmt::print("scene         {}\n", r.scene_description);
   fmt::print("motion        {}\n", r.motion_description);
-  fmt::print("time span     {:.6f} .. {:.6f} s ({:.3f} s)\n", nsToSeconds(r.begin_ns), nsToSeconds(r.end_ns), span);
+  fmt::print("time span     {:.6f} .. {:.6f} s ({:.3f} s)\n", nsToSeconds(r.begin_ns), nsToSeconds(r.end_ns),
+             span);
   fmt::print("events        {} (ON {}, OFF {}, noise {}; {} dropped by the refractory period)\n", s.events,
              s.on_events, s.off_events, s.noise_events, s.refractory_drops);
   fmt::print("render steps  {} ({:.1f} .. {:.1f} us, max image motion {:.3f} px per step)\n", s.render_steps,
@@ -57,7 +59,8 @@ void runSimulate(SimulateOptions& options) {
 void addSimulateCommand(CLI::App& app) {
   auto options = std::make_shared<SimulateOptions>();
   sim::SimulationSpec& spec = options->spec;
-  auto* cmd = app.add_subcommand("simulate", "Simulate an event camera with exact ground truth (ECD-format folder)");
+  auto* cmd =
+      app.add_subcommand("simulate", "Simulate an event camera with exact ground truth (ECD-format folder)");
   cmd->add_option("--scene", spec.scene,
                   fmt::format("built-in scene ({}) or scene file (YAML)", fmt::join(sim::sceneNames(), ", ")))
       ->required();
@@ -81,12 +84,14 @@ void addSimulateCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--start", spec.start_offset_s, "motion file: start this many seconds after its first pose")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--position-scale", spec.motion_file.position_scale, "motion file: multiply positions by this")
+  cmd->add_option("--position-scale", spec.motion_file.position_scale,
+                  "motion file: multiply positions by this")
       ->capture_default_str();
   cmd->add_option("--smoothing-cutoff", spec.motion_file.cutoff_hz,
                   "low-pass cut-off (Hz) for a motion file, 0 = off")
       ->capture_default_str();
-  cmd->add_option("--gt-rate", spec.groundtruth_rate_hz, "ground-truth poses per second")->capture_default_str();
+  cmd->add_option("--gt-rate", spec.groundtruth_rate_hz, "ground-truth poses per second")
+      ->capture_default_str();
   cmd->add_option("--frame-rate", spec.frame_rate_hz, "also write images/ at this rate (0 = none)")
       ->capture_default_str();
   cmd->add_flag("--binary", spec.write_binary, "also write events.aevt (binary)");

@@ -8,11 +8,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
-#include <string>
-
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 #include "asynevo/core/time.hpp"
 #include "asynevo/sim/event_simulator.hpp"
@@ -58,8 +57,8 @@ int main(int argc, char** argv) {
     for (int y = 0; y < camera.height(); ++y) {
       for (int x = 0; x < camera.width(); ++x) {
         const int c = counts.at<int>(y, x);
-        if (c > 0) events.at<cv::Vec3b>(y, x) = cv::Vec3b(40, 40, 220);   // ON: red (BGR)
-        if (c < 0) events.at<cv::Vec3b>(y, x) = cv::Vec3b(220, 90, 30);   // OFF: blue
+        if (c > 0) events.at<cv::Vec3b>(y, x) = cv::Vec3b(40, 40, 220);  // ON: red (BGR)
+        if (c < 0) events.at<cv::Vec3b>(y, x) = cv::Vec3b(220, 90, 30);  // OFF: blue
       }
     }
     const Renderer renderer(camera, scene);
@@ -67,13 +66,14 @@ int main(int argc, char** argv) {
     cv::Mat grey(camera.height(), camera.width(), CV_8UC3);
     for (int y = 0; y < camera.height(); ++y) {
       for (int x = 0; x < camera.width(); ++x) {
-        const auto v = static_cast<uint8_t>(std::clamp(
-            intensity[static_cast<std::size_t>(y * camera.width() + x)] * 255.0f, 0.0f, 255.0f));
+        const auto v = static_cast<uint8_t>(
+            std::clamp(intensity[static_cast<std::size_t>(y * camera.width() + x)] * 255.0f, 0.0f, 255.0f));
         grey.at<cv::Vec3b>(y, x) = cv::Vec3b(v, v, v);
       }
     }
     cv::Mat both;
-    cv::hconcat(std::vector<cv::Mat>{grey, cv::Mat(camera.height(), 4, CV_8UC3, cv::Scalar(0, 0, 0)), events}, both);
+    cv::hconcat(std::vector<cv::Mat>{grey, cv::Mat(camera.height(), 4, CV_8UC3, cv::Scalar(0, 0, 0)), events},
+                both);
     cv::resize(both, both, cv::Size(), 2, 2, cv::INTER_NEAREST);
     if (!cv::imwrite(out, both)) throw std::runtime_error("cannot write " + out);
     std::printf("%s: %s / %s, t = %.3f s, %llu events in %.0f ms\n", out.c_str(), spec.scene.c_str(),

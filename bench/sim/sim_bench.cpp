@@ -40,8 +40,9 @@ void BM_SimulateSecond(benchmark::State& state) {
   uint64_t events = 0, steps = 0;
   for (auto _ : state) {
     EventSimulator simulator(camera, scene, config, 1);
-    const EventSimStats stats = simulator.run(*motion, motion->beginNs(), motion->endNs(),
-                                              [](const std::vector<Event>& e) { benchmark::DoNotOptimize(e.data()); });
+    const EventSimStats stats =
+        simulator.run(*motion, motion->beginNs(), motion->endNs(),
+                      [](const std::vector<Event>& e) { benchmark::DoNotOptimize(e.data()); });
     events += stats.events;
     steps += stats.render_steps;
   }

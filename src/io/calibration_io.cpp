@@ -106,7 +106,8 @@ std::vector<double> yamlNumbers(const std::string& path, const YAML::Node& paren
 std::string yamlString(const std::string& path, const YAML::Node& parent, const char* key) {
   const YAML::Node node = parent[key];
   if (!node) throw InputError::atLine(path, lineOf(parent), fmt::format("missing key '{}'", key));
-  if (!node.IsScalar()) throw InputError::atLine(path, lineOf(node), fmt::format("'{}' must be a string", key));
+  if (!node.IsScalar())
+    throw InputError::atLine(path, lineOf(node), fmt::format("'{}' must be a string", key));
   return node.Scalar();
 }
 
@@ -148,10 +149,12 @@ CameraModel readEcdCalibration(const std::string& path, int width, int height) {
     for (std::size_t k = 0; k < fields.size(); ++k) {
       double value = 0;
       if (!parseDouble(fields[k], value)) {
-        throw InputError::atLine(path, line_number, fmt::format("field {} '{}' is not a number", k + 1, fields[k]));
+        throw InputError::atLine(path, line_number,
+                                 fmt::format("field {} '{}' is not a number", k + 1, fields[k]));
       }
       if (!std::isfinite(value)) {
-        throw InputError::atLine(path, line_number, fmt::format("field {} '{}' is not finite", k + 1, fields[k]));
+        throw InputError::atLine(path, line_number,
+                                 fmt::format("field {} '{}' is not finite", k + 1, fields[k]));
       }
       values.push_back(value);
     }
@@ -199,7 +202,8 @@ CameraModel readKalibrCalibration(const std::string& path, const std::string& ca
   } else if (distortion_name != "none") {
     throw InputError::atLine(
         path, lineOf(cam["distortion_model"]),
-        fmt::format("unsupported distortion_model '{}' (supported: radtan, equidistant, none)", distortion_name));
+        fmt::format("unsupported distortion_model '{}' (supported: radtan, equidistant, none)",
+                    distortion_name));
   }
   const std::vector<double> intrinsics = yamlNumbers(path, cam, "intrinsics", 4, 4);
   std::vector<double> coefficients;
@@ -209,18 +213,20 @@ CameraModel readKalibrCalibration(const std::string& path, const std::string& ca
   const std::vector<double> resolution = yamlNumbers(path, cam, "resolution", 2, 2);
   for (double r : resolution) {
     if (r != std::floor(r) || r <= 0 || r > 1e6) {
-      throw InputError::atLine(path, lineOf(cam["resolution"]),
-                               fmt::format("resolution must be two positive integers, found {}", formatDouble(r)));
+      throw InputError::atLine(
+          path, lineOf(cam["resolution"]),
+          fmt::format("resolution must be two positive integers, found {}", formatDouble(r)));
     }
   }
   return makeCamera(path, lineOf(cam["intrinsics"]), static_cast<int>(resolution[0]),
-                    static_cast<int>(resolution[1]), intrinsics[0], intrinsics[1], intrinsics[2], intrinsics[3],
-                    model, coefficients);
+                    static_cast<int>(resolution[1]), intrinsics[0], intrinsics[1], intrinsics[2],
+                    intrinsics[3], model, coefficients);
 }
 
 CameraModel readCalibration(const std::string& path, int width, int height) {
   const auto ends_with = [&](std::string_view suffix) {
-    return path.size() >= suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
+    return path.size() >= suffix.size() &&
+           path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
   };
   if (ends_with(".yaml") || ends_with(".yml")) return readKalibrCalibration(path);
   return readEcdCalibration(path, width, height);
@@ -236,8 +242,8 @@ void writeEcdCalibration(const std::string& path, const CameraModel& camera) {
   }
   std::ofstream out = openForWriting(path);
   out << fmt::format("{} {} {} {} {} {} {} {} {}\n", formatDouble(camera.fx()), formatDouble(camera.fy()),
-                     formatDouble(camera.cx()), formatDouble(camera.cy()), formatDouble(c[0]), formatDouble(c[1]),
-                     formatDouble(c[2]), formatDouble(c[3]), formatDouble(c[4]));
+                     formatDouble(camera.cx()), formatDouble(camera.cy()), formatDouble(c[0]),
+                     formatDouble(c[1]), formatDouble(c[2]), formatDouble(c[3]), formatDouble(c[4]));
   if (!out) throw Error(fmt::format("{}: write failed", path));
 }
 

@@ -35,7 +35,8 @@ EventSimulator::EventSimulator(const CameraModel& camera, const Scene& scene, co
   if (config.min_step_ns <= 0 || config.max_step_ns < config.min_step_ns) {
     throw std::invalid_argument("render step bounds must satisfy 0 < min_step_ns <= max_step_ns");
   }
-  if (config.refractory_ns < 0 || config.noise_rate_hz < 0 || config.hot_pixels < 0 || config.hot_pixel_rate_hz < 0) {
+  if (config.refractory_ns < 0 || config.noise_rate_hz < 0 || config.hot_pixels < 0 ||
+      config.hot_pixel_rate_hz < 0) {
     throw std::invalid_argument("refractory period, noise rate and hot pixels must not be negative");
   }
   const std::size_t n = static_cast<std::size_t>(camera.width()) * static_cast<std::size_t>(camera.height());
@@ -43,8 +44,10 @@ EventSimulator::EventSimulator(const CameraModel& camera, const Scene& scene, co
   c_on_.resize(n);
   c_off_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    c_on_[i] = static_cast<float>(std::max(config.min_contrast, config.contrast + config.contrast_sigma * rng.normal()));
-    c_off_[i] = static_cast<float>(std::max(config.min_contrast, config.contrast + config.contrast_sigma * rng.normal()));
+    c_on_[i] = static_cast<float>(
+        std::max(config.min_contrast, config.contrast + config.contrast_sigma * rng.normal()));
+    c_off_[i] = static_cast<float>(
+        std::max(config.min_contrast, config.contrast + config.contrast_sigma * rng.normal()));
   }
   intensity_.resize(n);
   log_prev_.resize(n);
@@ -86,8 +89,8 @@ void EventSimulator::processRows(const Renderer::Frame& frame, int64_t t_a, int6
   }
 }
 
-EventSimStats EventSimulator::run(const Motion& motion, int64_t begin_ns, int64_t end_ns, const EventSink& sink,
-                                  int64_t frame_period_ns, const FrameSink& frames) {
+EventSimStats EventSimulator::run(const Motion& motion, int64_t begin_ns, int64_t end_ns,
+                                  const EventSink& sink, int64_t frame_period_ns, const FrameSink& frames) {
   const auto wall_start = std::chrono::steady_clock::now();
   EventSimStats stats;
   if (end_ns < begin_ns) throw std::invalid_argument("simulation ends before it begins");
@@ -117,7 +120,8 @@ EventSimStats EventSimulator::run(const Motion& motion, int64_t begin_ns, int64_
   // Noise: one Poisson process over all pixels, hot pixels each with their own (deterministic for the seed).
   Random noise_rng(seed_ ^ 0x4E4F495345000000ULL);  // "NOISE"
   const double total_noise_rate = config_.noise_rate_hz * w * h;
-  int64_t next_noise_ns = total_noise_rate > 0 ? begin_ns + secondsToNs(noise_rng.exponential(total_noise_rate)) : INT64_MAX;
+  int64_t next_noise_ns =
+      total_noise_rate > 0 ? begin_ns + secondsToNs(noise_rng.exponential(total_noise_rate)) : INT64_MAX;
   struct HotPixel {
     uint16_t x, y;
     int64_t next_ns;
@@ -156,7 +160,8 @@ EventSimStats EventSimulator::run(const Motion& motion, int64_t begin_ns, int64_
       }
       if (motion_px <= config_.max_pixel_motion || dt <= config_.min_step_ns) break;
       dt = std::max(config_.min_step_ns,
-                    static_cast<int64_t>(static_cast<double>(dt) * std::max(0.1, 0.8 * config_.max_pixel_motion / motion_px)));
+                    static_cast<int64_t>(static_cast<double>(dt) *
+                                         std::max(0.1, 0.8 * config_.max_pixel_motion / motion_px)));
     }
     const int64_t step = t_b - t_a;
 
@@ -170,8 +175,8 @@ EventSimStats EventSimulator::run(const Motion& motion, int64_t begin_ns, int64_
       for (int k = 1; k < threads; ++k) {
         workers.emplace_back([&, k] {
           buffers[static_cast<std::size_t>(k)].clear();
-          processRows(frame, t_a, t_b, h * k / threads, h * (k + 1) / threads, buffers[static_cast<std::size_t>(k)],
-                      drops[static_cast<std::size_t>(k)]);
+          processRows(frame, t_a, t_b, h * k / threads, h * (k + 1) / threads,
+                      buffers[static_cast<std::size_t>(k)], drops[static_cast<std::size_t>(k)]);
         });
       }
       buffers[0].clear();
@@ -190,7 +195,8 @@ EventSimStats EventSimulator::run(const Motion& motion, int64_t begin_ns, int64_
     }
     for (HotPixel& hp : hot) {
       while (hp.next_ns <= t_b) {
-        step_events.push_back(Event{hp.next_ns, hp.x, hp.y, noise_rng.uniform() < 0.5 ? int8_t{-1} : int8_t{1}});
+        step_events.push_back(
+            Event{hp.next_ns, hp.x, hp.y, noise_rng.uniform() < 0.5 ? int8_t{-1} : int8_t{1}});
         hp.next_ns += std::max<int64_t>(1, secondsToNs(noise_rng.exponential(config_.hot_pixel_rate_hz)));
       }
     }
@@ -213,7 +219,8 @@ EventSimStats EventSimulator::run(const Motion& motion, int64_t begin_ns, int64_
     // Grow the next step when this one moved the image much less than allowed.
     if (motion_px < 0.5 * config_.max_pixel_motion) {
       const double grow = motion_px > 0 ? 0.8 * config_.max_pixel_motion / motion_px : 2.0;
-      dt = std::min(config_.max_step_ns, static_cast<int64_t>(static_cast<double>(dt) * std::min(2.0, grow)) + 1);
+      dt = std::min(config_.max_step_ns,
+                    static_cast<int64_t>(static_cast<double>(dt) * std::min(2.0, grow)) + 1);
     }
   }
   for (uint64_t d : drops) stats.refractory_drops += d;

@@ -37,7 +37,10 @@ Eigen::Vector3d translationOffsets(double t, double scale) {
 }  // namespace
 
 AnalyticMotion::AnalyticMotion(std::string description, int64_t begin_ns, int64_t end_ns, Function function)
-    : description_(std::move(description)), begin_ns_(begin_ns), end_ns_(end_ns), function_(std::move(function)) {
+    : description_(std::move(description)),
+      begin_ns_(begin_ns),
+      end_ns_(end_ns),
+      function_(std::move(function)) {
   if (end_ns_ < begin_ns_) throw std::invalid_argument("motion ends before it begins");
 }
 
@@ -66,10 +69,11 @@ std::unique_ptr<Motion> makePresetMotion(const std::string& name, double duratio
   using V = Eigen::Vector3d;
   using Q = Eigen::Quaterniond;
   if (name == "static") {
-    return std::make_unique<AnalyticMotion>("preset static (camera at rest)", 0, end_ns, [](double, V& p, Q& q) {
-      p.setZero();
-      q.setIdentity();
-    });
+    return std::make_unique<AnalyticMotion>("preset static (camera at rest)", 0, end_ns,
+                                            [](double, V& p, Q& q) {
+                                              p.setZero();
+                                              q.setIdentity();
+                                            });
   }
   if (name == "rotation") {
     // Peak angular rate ~0.9 rad/s, rotation up to ~0.5 rad about each axis; no translation.
@@ -111,7 +115,8 @@ SplineMotion::SplineMotion(const StampedTrajectory& samples_in, const MotionFile
   if (!(options.sample_dt_s > 0)) throw std::invalid_argument("sample_dt_s must be positive");
   if (options.cutoff_hz < 0) throw std::invalid_argument("cutoff_hz must not be negative");
   // Gaussian kernel with -3 dB at the cut-off: |H(f)| = exp(-2π²σ²f²) = 1/√2  =>  σ = √(ln 2) / (2π f_c).
-  const double sigma_s = options.cutoff_hz > 0 ? std::sqrt(std::log(2.0)) / (kTwoPi * options.cutoff_hz) : 0.0;
+  const double sigma_s =
+      options.cutoff_hz > 0 ? std::sqrt(std::log(2.0)) / (kTwoPi * options.cutoff_hz) : 0.0;
   const int64_t margin_ns = secondsToNs(3 * sigma_s);
 
   // Unique times inside the window (plus a margin for the filter), continuous quaternion signs.
@@ -147,7 +152,8 @@ SplineMotion::SplineMotion(const StampedTrajectory& samples_in, const MotionFile
     while (j + 2 < samples.size() && samples[j + 1].t_ns < t) ++j;
     const StampedPose& a = samples[j];
     const StampedPose& b = samples[j + 1];
-    const double u = std::clamp(static_cast<double>(t - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns), 0.0, 1.0);
+    const double u =
+        std::clamp(static_cast<double>(t - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns), 0.0, 1.0);
     p[k] = (1 - u) * a.p_w_c + u * b.p_w_c;
     q[k] = a.q_w_c.slerp(u, b.q_w_c);
   }
@@ -159,7 +165,8 @@ SplineMotion::SplineMotion(const StampedTrajectory& samples_in, const MotionFile
     const double sigma_k = sigma_s / options.sample_dt_s;
     const int half = static_cast<int>(std::ceil(3 * sigma_k));
     std::vector<double> w(static_cast<std::size_t>(half) + 1);
-    for (int d = 0; d <= half; ++d) w[static_cast<std::size_t>(d)] = std::exp(-0.5 * d * d / (sigma_k * sigma_k));
+    for (int d = 0; d <= half; ++d)
+      w[static_cast<std::size_t>(d)] = std::exp(-0.5 * d * d / (sigma_k * sigma_k));
     std::vector<Eigen::Vector3d> ps(n);
     std::vector<Eigen::Quaterniond> qs(n);
     for (std::size_t k = 0; k < n; ++k) {
@@ -210,7 +217,8 @@ SplineMotion::SplineMotion(const StampedTrajectory& samples_in, const MotionFile
   // The spline's domain is [τ_0, τ_{n-1}]; it may extend past the last sample by < Δ.
   end_ns_ = std::min(end_ns_, first_ns + static_cast<int64_t>(n - 1) * knot_dt_ns_);
   begin_ns_ = std::max(begin_ns_, first_ns);
-  if (end_ns_ <= begin_ns_) throw std::invalid_argument("the motion's time window is shorter than one sample step");
+  if (end_ns_ <= begin_ns_)
+    throw std::invalid_argument("the motion's time window is shorter than one sample step");
   // Remember where the grid starts: τ_0 = first sample.
   grid_origin_ns_ = first_ns;
 }
@@ -220,7 +228,8 @@ StampedPose SplineMotion::pose(int64_t t_ns) const {
   out.t_ns = std::clamp(t_ns, begin_ns_, end_ns_);
   const int64_t rel = out.t_ns - grid_origin_ns_;
   auto i = static_cast<std::size_t>(rel / knot_dt_ns_);
-  double u = static_cast<double>(rel - static_cast<int64_t>(i) * knot_dt_ns_) / static_cast<double>(knot_dt_ns_);
+  double u =
+      static_cast<double>(rel - static_cast<int64_t>(i) * knot_dt_ns_) / static_cast<double>(knot_dt_ns_);
   // Segment i (t in [τ_i, τ_{i+1})) uses control points c_i .. c_{i+3} = s_{i-1} .. s_{i+2}.
   if (i + 3 >= positions_.size()) {
     i = positions_.size() - 4;
@@ -231,8 +240,8 @@ StampedPose SplineMotion::pose(int64_t t_ns) const {
   const double b1 = (5 + 3 * u - 3 * u2 + u3) / 6;
   const double b2 = (1 + 3 * u + 3 * u2 - 2 * u3) / 6;
   const double b3 = u3 / 6;
-  out.p_w_c = positions_[i] + b1 * (positions_[i + 1] - positions_[i]) + b2 * (positions_[i + 2] - positions_[i + 1]) +
-              b3 * (positions_[i + 3] - positions_[i + 2]);
+  out.p_w_c = positions_[i] + b1 * (positions_[i + 1] - positions_[i]) +
+              b2 * (positions_[i + 2] - positions_[i + 1]) + b3 * (positions_[i + 3] - positions_[i + 2]);
   out.q_w_c = (rotations_[i] * expQ(b1 * rotation_deltas_[i]) * expQ(b2 * rotation_deltas_[i + 1]) *
                expQ(b3 * rotation_deltas_[i + 2]))
                   .normalized();

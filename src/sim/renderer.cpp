@@ -12,7 +12,8 @@ Renderer::Renderer(const CameraModel& camera, const Scene& scene) : camera_(came
   const auto at = [&](int x, int y) { return table.at(std::clamp(x, 0, w - 1), std::clamp(y, 0, h - 1)); };
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
-      Ray& ray = rays_[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
+      Ray& ray =
+          rays_[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
       ray.valid = table.valid(x, y);
       if (!ray.valid) continue;
       const Eigen::Vector2d c = table.at(x, y);
@@ -78,8 +79,8 @@ float Renderer::shade(const Frame& frame, const Ray& ray) const {
   }
   const auto sample = [](const Candidate& c) {
     const TexturedPlane& src = *c.plane->source;
-    return src.intensity_scale * src.texture->sample(c.a - src.texture_origin_m.x(), c.b - src.texture_origin_m.y(),
-                                                     c.footprint);
+    return src.intensity_scale *
+           src.texture->sample(c.a - src.texture_origin_m.x(), c.b - src.texture_origin_m.y(), c.footprint);
   };
   const float background = scene_.background;
   if (!first.plane) return background;
@@ -88,7 +89,8 @@ float Renderer::shade(const Frame& frame, const Ray& ray) const {
   float behind = background;
   if (second.plane) {
     const float back = sample(second);
-    behind = static_cast<float>(second.coverage) * back + static_cast<float>(1 - second.coverage) * background;
+    behind =
+        static_cast<float>(second.coverage) * back + static_cast<float>(1 - second.coverage) * background;
   }
   return static_cast<float>(first.coverage) * front + static_cast<float>(1 - first.coverage) * behind;
 }
@@ -118,7 +120,8 @@ void Renderer::sparseHits(const StampedPose& T_w_c, int stride, std::vector<Eige
   const Eigen::Matrix3d R_w_c = T_w_c.q_w_c.toRotationMatrix();
   const int w = camera_.width(), h = camera_.height();
   const auto visit = [&](int x, int y) {
-    const Ray& ray = rays_[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
+    const Ray& ray =
+        rays_[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
     if (!ray.valid) return;
     double best = 1e300;
     for (const Frame::Plane& p : frame.planes) {

@@ -41,7 +41,9 @@ std::vector<Eigen::Vector3d> borderRays(const CameraModel& camera) {
 
 }  // namespace
 
-std::vector<std::string> sceneNames() { return {"shapes", "checkerboard", "stripes", "blobs", "poster", "boxes", "room"}; }
+std::vector<std::string> sceneNames() {
+  return {"shapes", "checkerboard", "stripes", "blobs", "poster", "boxes", "room"};
+}
 
 bool isBuiltinScene(const std::string& name) {
   const auto names = sceneNames();
@@ -104,11 +106,13 @@ std::vector<TexturedPlane> boxFaces(const std::string& name, const Eigen::Vector
   return faces;
 }
 
-Scene makeBuiltinScene(const std::string& name, const Motion& motion, const CameraModel& camera, uint64_t seed) {
+Scene makeBuiltinScene(const std::string& name, const Motion& motion, const CameraModel& camera,
+                       uint64_t seed) {
   Scene scene;
   TextureOptions tex;
   tex.seed = seed;
-  if (name == "shapes" || name == "checkerboard" || name == "stripes" || name == "blobs" || name == "poster") {
+  if (name == "shapes" || name == "checkerboard" || name == "stripes" || name == "blobs" ||
+      name == "poster") {
     std::shared_ptr<const Texture> texture;
     if (name == "shapes") texture = makeShapesTexture(tex);
     if (name == "checkerboard") texture = makeCheckerboardTexture(tex, 0.1);
@@ -122,20 +126,24 @@ Scene makeBuiltinScene(const std::string& name, const Motion& motion, const Came
       for (std::size_t i = 0; i < mixed.size(); ++i) {
         mixed[i] = std::clamp(blobs->pixels()[i] * shapes->pixels()[i] / 0.9f, 0.02f, 1.0f);
       }
-      texture = std::make_shared<Texture>(std::move(mixed), blobs->width(), blobs->height(), blobs->texelSize(), true,
-                                          fmt::format("poster (blobs x shapes, seed {})", seed));
+      texture =
+          std::make_shared<Texture>(std::move(mixed), blobs->width(), blobs->height(), blobs->texelSize(),
+                                    true, fmt::format("poster (blobs x shapes, seed {})", seed));
     }
     TexturedPlane plane = planeInFrontOfStart(motion, camera, 1.5, texture);
     plane.name = name;
     scene.planes.push_back(plane);
-    scene.description = fmt::format("{}: one {:.2f} x {:.2f} m plane 1.5 m in front of the start pose, {}", name,
-                                    2 * plane.half_width, 2 * plane.half_height, texture->description());
+    scene.description =
+        fmt::format("{}: one {:.2f} x {:.2f} m plane 1.5 m in front of the start pose, {}", name,
+                    2 * plane.half_width, 2 * plane.half_height, texture->description());
     return scene;
   }
   if (name == "boxes") {
     const StampedPose start = motion.pose(motion.beginNs());
     const Eigen::Matrix3d R0 = rotationOf(start);
-    const auto toWorld = [&](const Eigen::Vector3d& p_c) -> Eigen::Vector3d { return start.p_w_c + R0 * p_c; };
+    const auto toWorld = [&](const Eigen::Vector3d& p_c) -> Eigen::Vector3d {
+      return start.p_w_c + R0 * p_c;
+    };
     TextureOptions wall_tex = tex;
     wall_tex.tile_m = 2.0;
     TexturedPlane wall = planeInFrontOfStart(motion, camera, 3.5, makeBlobsTexture(wall_tex));
@@ -158,16 +166,18 @@ Scene makeBuiltinScene(const std::string& name, const Motion& motion, const Came
     int k = 0;
     for (const BoxSpec& b : boxes) {
       const Eigen::Matrix3d R_w_b = R0 * lie::so3::exp(b.angles);
-      std::vector<std::shared_ptr<const Texture>> rotated = {textures[k % 3], textures[(k + 1) % 3], textures[(k + 2) % 3]};
+      std::vector<std::shared_ptr<const Texture>> rotated = {textures[k % 3], textures[(k + 1) % 3],
+                                                             textures[(k + 2) % 3]};
       for (TexturedPlane& face : boxFaces(fmt::format("box {}", k), toWorld(b.center_c), R_w_b,
                                           Eigen::Vector3d::Constant(b.half), rotated)) {
         scene.planes.push_back(face);
       }
       ++k;
     }
-    scene.description = fmt::format("boxes: 4 textured cubes 0.3-0.6 m wide at 1.2-2.6 m before a {:.1f} x {:.1f} m "
-                                    "blobs wall at 3.5 m",
-                                    2 * wall.half_width, 2 * wall.half_height);
+    scene.description = fmt::format(
+        "boxes: 4 textured cubes 0.3-0.6 m wide at 1.2-2.6 m before a {:.1f} x {:.1f} m "
+        "blobs wall at 3.5 m",
+        2 * wall.half_width, 2 * wall.half_height);
     return scene;
   }
   if (name == "room") {
@@ -186,11 +196,11 @@ Scene makeBuiltinScene(const std::string& name, const Motion& motion, const Came
     floor_tex.tile_m = 2.0;
     floor_tex.seed = seed + 1;
     const std::vector<std::shared_ptr<const Texture>> textures = {
-        makeShapesTexture(wall_tex), makeBlobsTexture(wall_tex), makeCheckerboardTexture(floor_tex, 0.25),
+        makeShapesTexture(wall_tex), makeBlobsTexture(wall_tex),   makeCheckerboardTexture(floor_tex, 0.25),
         makeBlobsTexture(floor_tex), makeShapesTexture(floor_tex), makeCheckerboardTexture(wall_tex, 0.125)};
     scene.planes = boxFaces("room", center, Eigen::Matrix3d::Identity(), half, textures);
-    scene.description = fmt::format("room: {:.1f} x {:.1f} x {:.1f} m textured box around the motion", 2 * half.x(),
-                                    2 * half.y(), 2 * half.z());
+    scene.description = fmt::format("room: {:.1f} x {:.1f} x {:.1f} m textured box around the motion",
+                                    2 * half.x(), 2 * half.y(), 2 * half.z());
     return scene;
   }
   throw std::invalid_argument(
@@ -206,7 +216,8 @@ uint64_t lineOf(const YAML::Node& node) { return static_cast<uint64_t>(node.Mark
 double number(const std::string& path, const YAML::Node& node, const std::string& what) {
   try {
     const double v = node.as<double>();
-    if (!std::isfinite(v)) throw InputError::atLine(path, lineOf(node), fmt::format("'{}' is not finite", what));
+    if (!std::isfinite(v))
+      throw InputError::atLine(path, lineOf(node), fmt::format("'{}' is not finite", what));
     return v;
   } catch (const YAML::Exception&) {
     throw InputError::atLine(path, lineOf(node), fmt::format("'{}' must be a number", what));
@@ -241,11 +252,13 @@ Scene loadSceneFile(const std::string& path, const Motion& motion, const CameraM
   if (!root.IsMap()) throw InputError(path, "expected a map with 'planes'");
   Scene scene;
   scene.description = "scene file " + path;
-  if (root["background"]) scene.background = static_cast<float>(number(path, root["background"], "background"));
+  if (root["background"])
+    scene.background = static_cast<float>(number(path, root["background"], "background"));
   std::string frame = "start";
   if (root["frame"]) frame = root["frame"].as<std::string>();
   if (frame != "start" && frame != "world") {
-    throw InputError::atLine(path, lineOf(root["frame"]), fmt::format("frame must be 'start' or 'world', got '{}'", frame));
+    throw InputError::atLine(path, lineOf(root["frame"]),
+                             fmt::format("frame must be 'start' or 'world', got '{}'", frame));
   }
   const StampedPose start = motion.pose(motion.beginNs());
   const Eigen::Matrix3d R = frame == "start" ? rotationOf(start) : Eigen::Matrix3d::Identity();
@@ -261,7 +274,8 @@ Scene loadSceneFile(const std::string& path, const Motion& motion, const CameraM
     plane.name = p["name"] ? p["name"].as<std::string>() : fmt::format("plane {}", index);
     const Eigen::Vector3d center = vectorOf(path, p, "center", 3, true);
     Eigen::Vector3d normal = vectorOf(path, p, "normal", 3, true);
-    if (normal.norm() < 1e-9) throw InputError::atLine(path, lineOf(p["normal"]), "'normal' must not be zero");
+    if (normal.norm() < 1e-9)
+      throw InputError::atLine(path, lineOf(p["normal"]), "'normal' must not be zero");
     normal.normalize();
     Eigen::Vector3d u = Eigen::Vector3d::UnitX();
     if (p["u_axis"]) u = vectorOf(path, p, "u_axis", 3, true);
@@ -273,7 +287,8 @@ Scene loadSceneFile(const std::string& path, const Motion& motion, const CameraM
     u.normalize();
     const Eigen::Vector3d v = normal.cross(u);
     const Eigen::Vector2d size = vectorOf(path, p, "size", 2, true);
-    if (!(size.x() > 0 && size.y() > 0)) throw InputError::atLine(path, lineOf(p["size"]), "'size' must be positive");
+    if (!(size.x() > 0 && size.y() > 0))
+      throw InputError::atLine(path, lineOf(p["size"]), "'size' must be positive");
     plane.center_w = t + R * center;
     plane.u_w = R * u;
     plane.v_w = R * v;
@@ -299,10 +314,12 @@ Scene loadSceneFile(const std::string& path, const Motion& motion, const CameraM
         if (image.is_relative()) image = folder / image;
         plane.texture = loadImageTexture(image.string(), size.x());
         // Centre the image on the plane.
-        plane.texture_origin_m = Eigen::Vector2d(-plane.texture->widthMeters() / 2, -plane.texture->heightMeters() / 2);
+        plane.texture_origin_m =
+            Eigen::Vector2d(-plane.texture->widthMeters() / 2, -plane.texture->heightMeters() / 2);
       } else {
-        throw InputError::atLine(path, line,
-                                 fmt::format("unknown texture '{}' (shapes, checkerboard, stripes, blobs, image)", type));
+        throw InputError::atLine(
+            path, line,
+            fmt::format("unknown texture '{}' (shapes, checkerboard, stripes, blobs, image)", type));
       }
     } catch (const std::invalid_argument& e) {
       throw InputError::atLine(path, line, e.what());

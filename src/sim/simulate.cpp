@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
-
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -107,18 +106,21 @@ std::unique_ptr<Motion> makeMotion(const SimulationSpec& spec) {
     return makePresetMotion(spec.motion, spec.duration_s > 0 ? spec.duration_s : kDefaultPresetDurationS);
   }
   if (!std::filesystem::exists(spec.motion)) {
-    throw InputError(spec.motion, fmt::format("no such motion file (presets: {})", fmt::join(motionPresetNames(), ", ")));
+    throw InputError(spec.motion,
+                     fmt::format("no such motion file (presets: {})", fmt::join(motionPresetNames(), ", ")));
   }
   MotionFileOptions options = spec.motion_file;
   if (spec.start_offset_s < 0 || !std::isfinite(spec.start_offset_s)) {
-    throw std::invalid_argument(fmt::format("start offset must not be negative, got {}", spec.start_offset_s));
+    throw std::invalid_argument(
+        fmt::format("start offset must not be negative, got {}", spec.start_offset_s));
   }
   if (spec.duration_s > 0 || spec.start_offset_s > 0) {
     // Window [first pose + offset, ... + duration]: the file's first time is needed first.
     const StampedTrajectory samples = readTumTrajectory(spec.motion);
     if (samples.empty()) throw InputError(spec.motion, "no poses in the file");
     options.begin_ns = std::max(options.begin_ns, samples.front().t_ns + secondsToNs(spec.start_offset_s));
-    if (spec.duration_s > 0) options.end_ns = std::min(options.end_ns, options.begin_ns + secondsToNs(spec.duration_s));
+    if (spec.duration_s > 0)
+      options.end_ns = std::min(options.end_ns, options.begin_ns + secondsToNs(spec.duration_s));
   }
   return loadMotionFile(spec.motion, options);
 }
@@ -133,7 +135,8 @@ SimulationResult simulateToFolder(const SimulationSpec& spec, const std::string&
   } else if (std::filesystem::exists(spec.scene)) {
     scene = loadSceneFile(spec.scene, *motion, camera, spec.seed);
   } else {
-    throw InputError(spec.scene, fmt::format("no such scene file (built-in scenes: {})", fmt::join(sceneNames(), ", ")));
+    throw InputError(spec.scene,
+                     fmt::format("no such scene file (built-in scenes: {})", fmt::join(sceneNames(), ", ")));
   }
   if (!(spec.groundtruth_rate_hz > 0)) throw std::invalid_argument("ground-truth rate must be positive");
 
@@ -149,26 +152,31 @@ SimulationResult simulateToFolder(const SimulationSpec& spec, const std::string&
   result.end_ns = motion->endNs();
 
   // Calibration.
-  if (camera.distortionModel() != DistortionModel::kEquidistant) writeEcdCalibration((dir / "calib.txt").string(), camera);
+  if (camera.distortionModel() != DistortionModel::kEquidistant)
+    writeEcdCalibration((dir / "calib.txt").string(), camera);
   writeKalibrCalibration((dir / "camchain.yaml").string(), camera);
 
   // Ground truth: the rendered (smoothed) motion, sampled at the requested rate.
   const int64_t gt_dt = std::max<int64_t>(1, secondsToNs(1.0 / spec.groundtruth_rate_hz));
   const StampedTrajectory gt = sampleMotion(*motion, gt_dt);
-  writeTumTrajectory((dir / "groundtruth.txt").string(), gt,
-                     fmt::format("simulated ground truth T_w_c: {}\nt px py pz qx qy qz qw", motion->describe()));
+  writeTumTrajectory(
+      (dir / "groundtruth.txt").string(), gt,
+      fmt::format("simulated ground truth T_w_c: {}\nt px py pz qx qy qz qw", motion->describe()));
   result.groundtruth_poses = gt.size();
 
   // Events (and frames).
   EventTextWriter text((dir / "events.txt").string());
   std::unique_ptr<EventFileWriter> binary;
-  if (spec.write_binary) binary = std::make_unique<EventFileWriter>((dir / "events.aevt").string(), camera.width(), camera.height());
+  if (spec.write_binary)
+    binary =
+        std::make_unique<EventFileWriter>((dir / "events.aevt").string(), camera.width(), camera.height());
   std::ofstream images_txt;
   const int64_t frame_period = spec.frame_rate_hz > 0 ? secondsToNs(1.0 / spec.frame_rate_hz) : 0;
   if (frame_period > 0) {
     std::filesystem::create_directories(dir / "images");
     images_txt.open(dir / "images.txt");
-    if (!images_txt) throw Error(fmt::format("{}: cannot open file for writing", (dir / "images.txt").string()));
+    if (!images_txt)
+      throw Error(fmt::format("{}: cannot open file for writing", (dir / "images.txt").string()));
   }
   uint64_t total = 0;
   EventSimulator simulator(camera, scene, spec.sensor, spec.seed);
@@ -188,7 +196,8 @@ SimulationResult simulateToFolder(const SimulationSpec& spec, const std::string&
       }
     }
     const std::string name = fmt::format("images/frame_{:08d}.png", result.frames);
-    if (!cv::imwrite((dir / name).string(), image)) throw Error(fmt::format("{}: cannot write image", (dir / name).string()));
+    if (!cv::imwrite((dir / name).string(), image))
+      throw Error(fmt::format("{}: cannot write image", (dir / name).string()));
     char t[32];
     formatNsAsSeconds(t_ns, t);
     images_txt << t << ' ' << name << '\n';
@@ -213,10 +222,10 @@ SimulationResult simulateToFolder(const SimulationSpec& spec, const std::string&
       "stats:\n  events: {}\n  on_events: {}\n  off_events: {}\n  noise_events: {}\n  refractory_drops: {}\n"
       "  render_steps: {}\n  min_step_us: {:.3f}\n  max_step_us: {:.3f}\n  max_step_motion_px: {:.4f}\n",
       spec.scene, scene.description, spec.motion, motion->describe(), spec.seed, nsToSeconds(result.begin_ns),
-      nsToSeconds(result.end_ns), camera.summary(), c.contrast, c.contrast_sigma, c.log_epsilon, c.refractory_ns / 1e3,
-      c.noise_rate_hz, c.hot_pixels, c.hot_pixel_rate_hz, c.max_pixel_motion, spec.groundtruth_rate_hz,
-      spec.frame_rate_hz, s.events, s.on_events, s.off_events, s.noise_events, s.refractory_drops, s.render_steps,
-      s.min_step_ns / 1e3, s.max_step_ns / 1e3, s.max_step_motion_px);
+      nsToSeconds(result.end_ns), camera.summary(), c.contrast, c.contrast_sigma, c.log_epsilon,
+      c.refractory_ns / 1e3, c.noise_rate_hz, c.hot_pixels, c.hot_pixel_rate_hz, c.max_pixel_motion,
+      spec.groundtruth_rate_hz, spec.frame_rate_hz, s.events, s.on_events, s.off_events, s.noise_events,
+      s.refractory_drops, s.render_steps, s.min_step_ns / 1e3, s.max_step_ns / 1e3, s.max_step_motion_px);
   if (!meta) throw Error(fmt::format("{}: write failed", (dir / "sim.yaml").string()));
   return result;
 }

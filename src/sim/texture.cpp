@@ -4,11 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
-
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 #include "asynevo/core/error.hpp"
 #include "asynevo/sim/random.hpp"
@@ -41,7 +40,8 @@ constexpr int kSupersample = 4;
 Texture::Texture(std::vector<float> pixels, int width, int height, double texel_m, bool repeat,
                  std::string description)
     : texel_m_(texel_m), repeat_(repeat), description_(std::move(description)) {
-  if (width <= 0 || height <= 0 || pixels.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height)) {
+  if (width <= 0 || height <= 0 ||
+      pixels.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height)) {
     throw std::invalid_argument("texture size does not match its data");
   }
   if (!(texel_m > 0)) throw std::invalid_argument("texel size must be positive");
@@ -68,8 +68,8 @@ Texture::Texture(std::vector<float> pixels, int width, int height, double texel_
           return prev.data[static_cast<std::size_t>(yy) * static_cast<std::size_t>(prev.width) +
                            static_cast<std::size_t>(xx)];
         };
-        next.data[static_cast<std::size_t>(y) * static_cast<std::size_t>(next.width) + static_cast<std::size_t>(x)] =
-            0.25f * (at(x0, y0) + at(x1, y0) + at(x0, y1) + at(x1, y1));
+        next.data[static_cast<std::size_t>(y) * static_cast<std::size_t>(next.width) +
+                  static_cast<std::size_t>(x)] = 0.25f * (at(x0, y0) + at(x1, y0) + at(x0, y1) + at(x1, y1));
       }
     }
     levels_.push_back(std::move(next));
@@ -157,7 +157,8 @@ std::shared_ptr<const Texture> makeShapesTexture(const TextureOptions& options) 
       for (int i = 0; i < 64; ++i) {
         const double a = 2 * kPi * i / 64;
         const double x = radius * std::cos(a), y = radius * ratio * std::sin(a);
-        corners.emplace_back(x * std::cos(rotation) - y * std::sin(rotation), x * std::sin(rotation) + y * std::cos(rotation));
+        corners.emplace_back(x * std::cos(rotation) - y * std::sin(rotation),
+                             x * std::sin(rotation) + y * std::cos(rotation));
       }
     } else {
       const int m = kind + 2;
@@ -257,7 +258,8 @@ std::shared_ptr<const Texture> makeBlobsTexture(const TextureOptions& options) {
       const int border = 2;
       cv::Mat wrapped, up;
       cv::copyMakeBorder(coarse, wrapped, border, border, border, border, cv::BORDER_WRAP);
-      cv::resize(wrapped, up, cv::Size((m + 2 * border) * factor, (m + 2 * border) * factor), 0, 0, cv::INTER_CUBIC);
+      cv::resize(wrapped, up, cv::Size((m + 2 * border) * factor, (m + 2 * border) * factor), 0, 0,
+                 cv::INTER_CUBIC);
       octave = up(cv::Rect(border * factor, border * factor, n, n)).clone();
     }
     cv::Scalar mean, stddev;
@@ -277,8 +279,9 @@ std::shared_ptr<const Texture> loadImageTexture(const std::string& path, double 
   if (!(width_m > 0)) throw std::invalid_argument("image texture width must be positive");
   cv::Mat f;
   image.convertTo(f, CV_32F, 1.0 / 255.0);
-  return std::make_shared<Texture>(matToVector(f), f.cols, f.rows, width_m / f.cols, false,
-                                   fmt::format("image {} ({}x{} px, {} m wide)", path, f.cols, f.rows, width_m));
+  return std::make_shared<Texture>(
+      matToVector(f), f.cols, f.rows, width_m / f.cols, false,
+      fmt::format("image {} ({}x{} px, {} m wide)", path, f.cols, f.rows, width_m));
 }
 
 }  // namespace asynevo::sim

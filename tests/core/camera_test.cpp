@@ -1,14 +1,13 @@
-#include "asynevo/core/camera/camera_model.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
 #include <stdexcept>
 #include <vector>
 
-#include <opencv2/calib3d.hpp>
-#include <opencv2/core.hpp>
+#include "asynevo/core/camera/camera_model.hpp"
 
 namespace asynevo {
 namespace {
@@ -49,7 +48,8 @@ TEST(CameraModel, ProjectUnprojectRoundTripOverWholeImage) {
       }
     }
     EXPECT_LT(worst, 1e-9) << camera.summary();
-    std::printf("[ figure ] round trip %s: worst %.3g px\n", distortionModelName(camera.distortionModel()), worst);
+    std::printf("[ figure ] round trip %s: worst %.3g px\n", distortionModelName(camera.distortionModel()),
+                worst);
   }
 }
 
@@ -74,7 +74,8 @@ TEST(CameraModel, ProjectRejectsPointsBehindTheCamera) {
 
 TEST(CameraModel, DistortJacobianMatchesFiniteDifferences) {
   for (const CameraModel& camera : allCameras()) {
-    for (const Eigen::Vector2d& xn : {Eigen::Vector2d(0.3, -0.2), Eigen::Vector2d(-0.7, 0.5), Eigen::Vector2d(1e-3, 0)}) {
+    for (const Eigen::Vector2d& xn :
+         {Eigen::Vector2d(0.3, -0.2), Eigen::Vector2d(-0.7, 0.5), Eigen::Vector2d(1e-3, 0)}) {
       const Eigen::Matrix2d J = camera.distortJacobian(xn);
       const double h = 1e-6;
       for (int k = 0; k < 2; ++k) {
@@ -123,8 +124,9 @@ TEST(CameraModel, EquidistantAgreesWithOpenCvFisheyeUndistortPoints) {
       for (double x = -0.5; x <= camera.width() - 0.5; x += 2.5) src.emplace_back(x, y);
     }
     std::vector<cv::Point2d> dst;
-    cv::fisheye::undistortPoints(src, dst, K, D, cv::noArray(), K,
-                                 cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-15));
+    cv::fisheye::undistortPoints(
+        src, dst, K, D, cv::noArray(), K,
+        cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-15));
     ASSERT_EQ(dst.size(), src.size());
     double worst = 0;
     for (std::size_t i = 0; i < src.size(); ++i) {
@@ -239,7 +241,8 @@ TEST(CameraModel, RejectsInvalidParameters) {
   EXPECT_THROW(CameraModel(240, 180, std::nan(""), 200, 120, 90), std::invalid_argument);
   EXPECT_THROW(CameraModel(240, 180, 200, 200, 120, 90, DistortionModel::kEquidistant, {0.1, 0.2}),
                std::invalid_argument);
-  EXPECT_THROW(CameraModel(240, 180, 200, 200, 120, 90, DistortionModel::kNone, {0.1}), std::invalid_argument);
+  EXPECT_THROW(CameraModel(240, 180, 200, 200, 120, 90, DistortionModel::kNone, {0.1}),
+               std::invalid_argument);
   // radtan with four coefficients means k3 = 0.
   const CameraModel four(240, 180, 200, 200, 120, 90, DistortionModel::kRadtan, {0.1, 0.2, 0.3, 0.4});
   ASSERT_EQ(four.coefficients().size(), 5u);

@@ -67,7 +67,8 @@ TEST(EcdCalibration, WriteReadRoundTripIsExact) {
   EXPECT_EQ(back.fx(), camera.fx());
   EXPECT_EQ(back.cy(), camera.cy());
   EXPECT_EQ(back.coefficients(), camera.coefficients());
-  const CameraModel fisheye(346, 260, 180, 180, 170, 130, DistortionModel::kEquidistant, {0.1, 0.01, 0.001, 0.0});
+  const CameraModel fisheye(346, 260, 180, 180, 170, 130, DistortionModel::kEquidistant,
+                            {0.1, 0.01, 0.001, 0.0});
   EXPECT_THROW(writeEcdCalibration(dir.file("fisheye.txt"), fisheye), Error);
 }
 
@@ -173,10 +174,11 @@ TEST(KalibrCalibration, WriteReadRoundTripIsExact) {
 
 std::string kalibrWith(const std::string& distortion_model, const std::string& coeffs,
                        const std::string& intrinsics = "[199.0, 198.0, 132.0, 110.0]",
-                       const std::string& resolution = "[240, 180]", const std::string& camera_model = "pinhole") {
+                       const std::string& resolution = "[240, 180]",
+                       const std::string& camera_model = "pinhole") {
   return "cam0:\n  camera_model: " + camera_model + "\n  distortion_model: " + distortion_model +
-         "\n  distortion_coeffs: " + coeffs + "\n  intrinsics: " + intrinsics + "\n  resolution: " + resolution +
-         "\n";
+         "\n  distortion_coeffs: " + coeffs + "\n  intrinsics: " + intrinsics +
+         "\n  resolution: " + resolution + "\n";
 }
 
 TEST(KalibrCalibration, BadInputNamesFileAndLine) {
@@ -189,10 +191,11 @@ TEST(KalibrCalibration, BadInputNamesFileAndLine) {
             empty + ": empty file: expected a Kalibr camchain with cam0");
 
   const std::string no_cam = dir.write("nocam.yaml", "cam1:\n  camera_model: pinhole\n");
-  EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(no_cam); }), no_cam + ":1: no camera 'cam0' in the file");
+  EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(no_cam); }),
+            no_cam + ":1: no camera 'cam0' in the file");
 
-  const std::string omni = dir.write("omni.yaml", kalibrWith("radtan", "[0, 0, 0, 0]", "[1, 2, 3, 4]",
-                                                             "[240, 180]", "omni"));
+  const std::string omni =
+      dir.write("omni.yaml", kalibrWith("radtan", "[0, 0, 0, 0]", "[1, 2, 3, 4]", "[240, 180]", "omni"));
   EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(omni); }),
             omni + ":2: unsupported camera_model 'omni' (supported: pinhole)");
 
@@ -204,38 +207,47 @@ TEST(KalibrCalibration, BadInputNamesFileAndLine) {
   EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(count); }),
             count + ":4: 'distortion_coeffs' needs 4 values, found 3");
 
-  const std::string radtan6 = dir.write("radtan6.yaml", kalibrWith("radtan", "[0.1, 0.2, 0.3, 0.4, 0.5, 0.6]"));
+  const std::string radtan6 =
+      dir.write("radtan6.yaml", kalibrWith("radtan", "[0.1, 0.2, 0.3, 0.4, 0.5, 0.6]"));
   EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(radtan6); }),
             radtan6 + ":4: 'distortion_coeffs' needs 4 or 5 values, found 6");
 
-  const std::string intr = dir.write("intr.yaml", kalibrWith("radtan", "[0, 0, 0, 0]", "[199.0, 198.0, 132.0]"));
-  EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(intr); }), intr + ":5: 'intrinsics' needs 4 values, found 3");
+  const std::string intr =
+      dir.write("intr.yaml", kalibrWith("radtan", "[0, 0, 0, 0]", "[199.0, 198.0, 132.0]"));
+  EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(intr); }),
+            intr + ":5: 'intrinsics' needs 4 values, found 3");
 
-  const std::string text = dir.write("text.yaml", kalibrWith("radtan", "[0, 0, 0, 0]", "[199.0, fx, 132.0, 1]"));
-  EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(text); }), text + ":5: intrinsics[1] 'fx' is not a number");
+  const std::string text =
+      dir.write("text.yaml", kalibrWith("radtan", "[0, 0, 0, 0]", "[199.0, fx, 132.0, 1]"));
+  EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(text); }),
+            text + ":5: intrinsics[1] 'fx' is not a number");
 
   const std::string nan = dir.write("nan.yaml", kalibrWith("radtan", "[0, .nan, 0, 0]"));
   EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(nan); }),
             nan + ":4: distortion_coeffs[1] '.nan' is not finite");
 
   const std::string nan2 = dir.write("nan2.yaml", kalibrWith("radtan", "[0, 0, 0, 0]", "[nan, 1, 2, 3]"));
-  EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(nan2); }), nan2 + ":5: intrinsics[0] 'nan' is not finite");
+  EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(nan2); }),
+            nan2 + ":5: intrinsics[0] 'nan' is not finite");
 
-  const std::string res = dir.write("res.yaml", kalibrWith("radtan", "[0, 0, 0, 0]", "[199, 198, 132, 110]",
-                                                           "[240.5, 180]"));
+  const std::string res =
+      dir.write("res.yaml", kalibrWith("radtan", "[0, 0, 0, 0]", "[199, 198, 132, 110]", "[240.5, 180]"));
   EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(res); }),
             res + ":6: resolution must be two positive integers, found 240.5");
 
-  const std::string no_intr = dir.write("nointr.yaml", "cam0:\n  camera_model: pinhole\n  distortion_model: none\n");
+  const std::string no_intr =
+      dir.write("nointr.yaml", "cam0:\n  camera_model: pinhole\n  distortion_model: none\n");
   EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(no_intr); }), no_intr + ":2: missing key 'intrinsics'");
 
-  const std::string focal = dir.write("focal.yaml", kalibrWith("radtan", "[0, 0, 0, 0]", "[0, 198, 132, 110]"));
+  const std::string focal =
+      dir.write("focal.yaml", kalibrWith("radtan", "[0, 0, 0, 0]", "[0, 198, 132, 110]"));
   EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(focal); }),
             focal + ":5: focal lengths must be positive, got fx=0 fy=198");
 
   const std::string broken = dir.write("broken.yaml", "cam0:\n  intrinsics: [1, 2\n  resolution: [3, 4]\n");
   // yaml-cpp's own message (Debian 12, yaml-cpp 0.7), at the line where the parser noticed.
-  EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(broken); }), broken + ":3: end of sequence flow not found");
+  EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(broken); }),
+            broken + ":3: end of sequence flow not found");
 }
 
 }  // namespace

@@ -18,9 +18,9 @@ std::vector<Event> simulate(const CameraModel& camera, const Scene& scene, const
                             const EventSimConfig& config, uint64_t seed, EventSimStats* stats = nullptr) {
   std::vector<Event> events;
   EventSimulator simulator(camera, scene, config, seed);
-  const EventSimStats s = simulator.run(motion, motion.beginNs(), motion.endNs(), [&](const std::vector<Event>& step) {
-    events.insert(events.end(), step.begin(), step.end());
-  });
+  const EventSimStats s = simulator.run(
+      motion, motion.beginNs(), motion.endNs(),
+      [&](const std::vector<Event>& step) { events.insert(events.end(), step.begin(), step.end()); });
   if (stats) *stats = s;
   return events;
 }
@@ -30,7 +30,8 @@ constexpr float kDark = 0.2f, kBright = 0.8f;
 Scene stepEdgeScene() {
   std::vector<float> pixels(2048 * 4);
   for (int y = 0; y < 4; ++y) {
-    for (int x = 0; x < 2048; ++x) pixels[static_cast<std::size_t>(y * 2048 + x)] = x < 1024 ? kDark : kBright;
+    for (int x = 0; x < 2048; ++x)
+      pixels[static_cast<std::size_t>(y * 2048 + x)] = x < 1024 ? kDark : kBright;
   }
   Scene scene;
   TexturedPlane plane;
@@ -52,10 +53,11 @@ TEST(EventSimulator, StepEdgeTranslatingAtKnownSpeed) {
   const CameraModel camera = pinhole();
   const Scene scene = stepEdgeScene();
   const double speed_mps = 0.2, start_x = -0.3, px_per_s = 200 * speed_mps / 1.0;
-  const AnalyticMotion motion("edge", 0, 2'000'000'000, [&](double t, Eigen::Vector3d& p, Eigen::Quaterniond& q) {
-    p = Eigen::Vector3d(start_x + speed_mps * t, 0, 0);
-    q.setIdentity();
-  });
+  const AnalyticMotion motion("edge", 0, 2'000'000'000,
+                              [&](double t, Eigen::Vector3d& p, Eigen::Quaterniond& q) {
+                                p = Eigen::Vector3d(start_x + speed_mps * t, 0, 0);
+                                q.setIdentity();
+                              });
   EventSimConfig config;
   config.contrast_sigma = 0;
   config.refractory_ns = 0;
@@ -103,11 +105,12 @@ TEST(EventSimulator, StepEdgeTranslatingAtKnownSpeed) {
       }
     }
   }
-  std::printf("[ figure ] step edge: %zu events, %d per crossed pixel (expected %d); event times vs the "
-              "box-footprint model: worst %.3f ms (render step %.2f ms); worst |t - t_cross| %.3f px of travel; "
-              "mean offset %.3f ms\n",
-              events.size(), expected_count, expected_count, worst_model_s * 1e3, step_s * 1e3, worst_offset_px,
-              sum_mean_offset / pixels * 1e3);
+  std::printf(
+      "[ figure ] step edge: %zu events, %d per crossed pixel (expected %d); event times vs the "
+      "box-footprint model: worst %.3f ms (render step %.2f ms); worst |t - t_cross| %.3f px of travel; "
+      "mean offset %.3f ms\n",
+      events.size(), expected_count, expected_count, worst_model_s * 1e3, step_s * 1e3, worst_offset_px,
+      sum_mean_offset / pixels * 1e3);
 }
 
 TEST(EventSimulator, StaticCameraProducesNoEvents) {
@@ -133,7 +136,8 @@ TEST(EventSimulator, BackgroundNoiseHasTheRequestedRate) {
   const double expected = 240 * 180 * 0.1 * 2.0;
   EXPECT_NEAR(static_cast<double>(events.size()), expected, 5 * std::sqrt(expected));
   EXPECT_EQ(stats.noise_events, events.size());
-  EXPECT_TRUE(std::is_sorted(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.t_ns < b.t_ns; }));
+  EXPECT_TRUE(std::is_sorted(events.begin(), events.end(),
+                             [](const Event& a, const Event& b) { return a.t_ns < b.t_ns; }));
   int on = 0;
   for (const Event& e : events) on += e.polarity > 0 ? 1 : 0;
   EXPECT_NEAR(on, events.size() / 2.0, 5 * std::sqrt(events.size() / 4.0));
@@ -144,10 +148,11 @@ TEST(EventSimulator, BackgroundNoiseHasTheRequestedRate) {
 TEST(EventSimulator, PolarityBalanceForSymmetricTexture) {
   const CameraModel camera = pinhole();
   // Two full periods of a 5 cm side-to-side motion at 2 Hz (peak 0.63 m/s).
-  const AnalyticMotion sway("sway", 0, 1'000'000'000, [](double t, Eigen::Vector3d& p, Eigen::Quaterniond& q) {
-    p = Eigen::Vector3d(0.05 * std::sin(2 * 3.141592653589793 * 2 * t), 0, 0);
-    q.setIdentity();
-  });
+  const AnalyticMotion sway("sway", 0, 1'000'000'000,
+                            [](double t, Eigen::Vector3d& p, Eigen::Quaterniond& q) {
+                              p = Eigen::Vector3d(0.05 * std::sin(2 * 3.141592653589793 * 2 * t), 0, 0);
+                              q.setIdentity();
+                            });
   const Motion* motion = &sway;
   const Scene scene = makeBuiltinScene("checkerboard", *motion, camera, 1);
   EventSimConfig config;
@@ -155,9 +160,11 @@ TEST(EventSimulator, PolarityBalanceForSymmetricTexture) {
   const std::vector<Event> events = simulate(camera, scene, *motion, config, 1, &stats);
   const double imbalance = (static_cast<double>(stats.on_events) - static_cast<double>(stats.off_events)) /
                            static_cast<double>(stats.events);
-  std::printf("[ figure ] checkerboard, 2 periods of side-to-side motion: %llu events, ON %llu, OFF %llu, imbalance %.4f\n",
-              static_cast<unsigned long long>(stats.events), static_cast<unsigned long long>(stats.on_events),
-              static_cast<unsigned long long>(stats.off_events), imbalance);
+  std::printf(
+      "[ figure ] checkerboard, 2 periods of side-to-side motion: %llu events, ON %llu, OFF %llu, imbalance "
+      "%.4f\n",
+      static_cast<unsigned long long>(stats.events), static_cast<unsigned long long>(stats.on_events),
+      static_cast<unsigned long long>(stats.off_events), imbalance);
   EXPECT_GT(stats.events, 100'000u);
   EXPECT_LT(std::fabs(imbalance), 0.01);
 }
@@ -190,7 +197,8 @@ TEST(EventSimulator, AdaptiveStepsBoundImageMotion) {
   EXPECT_LE(stats.max_step_motion_px, 0.3);
   EXPECT_GT(stats.render_steps, 100u);
   EXPECT_GT(events.size(), 10'000u);
-  EXPECT_TRUE(std::is_sorted(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.t_ns < b.t_ns; }));
+  EXPECT_TRUE(std::is_sorted(events.begin(), events.end(),
+                             [](const Event& a, const Event& b) { return a.t_ns < b.t_ns; }));
   for (const Event& e : events) {
     ASSERT_LT(e.x, 240);
     ASSERT_LT(e.y, 180);

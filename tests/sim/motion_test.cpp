@@ -71,7 +71,8 @@ TEST(SplineMotion, ReproducesASmoothTrajectory) {
 
 // Velocity is continuous: finite-difference velocities just before and after a knot agree.
 TEST(SplineMotion, VelocityIsContinuousAcrossKnots) {
-  const StampedTrajectory samples = readTumTrajectory(testing::dataPath("ecd/shapes_rotation/groundtruth.txt"));
+  const StampedTrajectory samples =
+      readTumTrajectory(testing::dataPath("ecd/shapes_rotation/groundtruth.txt"));
   MotionFileOptions options;
   options.end_ns = samples.front().t_ns + 2'000'000'000;
   const SplineMotion spline(samples, options, "test");
@@ -108,15 +109,17 @@ TEST(SplineMotion, SmoothsMocapNoiseButFollowsTheTrajectory) {
   }
   double coarse_length = 0;
   for (int64_t t = motion->beginNs(); t + 100'000'000 <= motion->endNs(); t += 100'000'000) {
-    const auto a = std::lower_bound(raw.begin(), raw.end(), t, [](const StampedPose& p, int64_t v) { return p.t_ns < v; });
+    const auto a = std::lower_bound(raw.begin(), raw.end(), t,
+                                    [](const StampedPose& p, int64_t v) { return p.t_ns < v; });
     const auto b = std::lower_bound(raw.begin(), raw.end(), t + 100'000'000,
                                     [](const StampedPose& p, int64_t v) { return p.t_ns < v; });
     coarse_length += (b->p_w_c - a->p_w_c).norm();
   }
   const double rms = std::sqrt(sum_sq / n);
-  std::printf("[ figure ] shapes_rotation 10 s: smoothed vs raw RMS %.2f mm, worst %.2f deg; path length raw(5 ms) "
-              "%.3f m, smoothed(5 ms) %.3f m, raw(100 ms) %.3f m\n",
-              rms * 1e3, worst_angle * 57.2958, raw_length, smooth_length, coarse_length);
+  std::printf(
+      "[ figure ] shapes_rotation 10 s: smoothed vs raw RMS %.2f mm, worst %.2f deg; path length raw(5 ms) "
+      "%.3f m, smoothed(5 ms) %.3f m, raw(100 ms) %.3f m\n",
+      rms * 1e3, worst_angle * 57.2958, raw_length, smooth_length, coarse_length);
   EXPECT_LT(rms, 0.003);
   EXPECT_LT(worst_angle, 0.03);
   EXPECT_LT(smooth_length, raw_length);

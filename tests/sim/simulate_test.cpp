@@ -72,7 +72,8 @@ TEST(SimulateToFolder, SameSeedSameBytes) {
   const std::string a = testing::readBytes(dir.file("a/events.txt"));
   ASSERT_GT(a.size(), 100'000u);
   EXPECT_TRUE(a == testing::readBytes(dir.file("b/events.txt")));
-  EXPECT_TRUE(testing::readBytes(dir.file("a/groundtruth.txt")) == testing::readBytes(dir.file("b/groundtruth.txt")));
+  EXPECT_TRUE(testing::readBytes(dir.file("a/groundtruth.txt")) ==
+              testing::readBytes(dir.file("b/groundtruth.txt")));
   EXPECT_FALSE(a == testing::readBytes(dir.file("c/events.txt")));
 }
 
@@ -146,7 +147,8 @@ TEST(SimulateToFolder, SceneFileWithImageTexture) {
   const SimulationResult r = simulateToFolder(spec, dir.file("out"));
   EXPECT_GT(r.stats.events, 1000u);
 
-  std::ofstream(dir.file("bad.yaml")) << "planes:\n  - center: [0, 0]\n    normal: [0, 0, 1]\n    size: [1, 1]\n";
+  std::ofstream(dir.file("bad.yaml"))
+      << "planes:\n  - center: [0, 0]\n    normal: [0, 0, 1]\n    size: [1, 1]\n";
   spec.scene = dir.file("bad.yaml");
   try {
     simulateToFolder(spec, dir.file("bad"));
@@ -166,7 +168,8 @@ TEST(SimulateToFolder, UnknownSceneOrMotionIsAnInputError) {
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),
-              "castle: no such scene file (built-in scenes: shapes, checkerboard, stripes, blobs, poster, boxes, room)");
+              "castle: no such scene file (built-in scenes: shapes, checkerboard, stripes, blobs, poster, "
+              "boxes, room)");
   }
   spec.scene = "shapes";
   spec.motion = "loop";

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
-
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -83,8 +82,9 @@ TEST(Renderer, FineTextureIsPrefilteredNotAliased) {
   }
   const double mean = sum / static_cast<double>(image.size());
   const double stddev = std::sqrt(sum_sq / static_cast<double>(image.size()) - mean * mean);
-  std::printf("[ figure ] 2 mm checkerboard at 3 m: mean %.4f, std %.4f (point sampling would give std 0.4)\n", mean,
-              stddev);
+  std::printf(
+      "[ figure ] 2 mm checkerboard at 3 m: mean %.4f, std %.4f (point sampling would give std 0.4)\n", mean,
+      stddev);
   EXPECT_NEAR(mean, 0.5, 0.01);
   EXPECT_LT(stddev, 0.02);
 }

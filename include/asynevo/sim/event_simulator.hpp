@@ -43,12 +43,12 @@ struct EventSimStats {
   uint64_t events = 0;
   uint64_t on_events = 0;
   uint64_t off_events = 0;
-  uint64_t noise_events = 0;       ///< background noise and hot-pixel events (included in events)
-  uint64_t refractory_drops = 0;   ///< crossings dropped by the refractory period
+  uint64_t noise_events = 0;      ///< background noise and hot-pixel events (included in events)
+  uint64_t refractory_drops = 0;  ///< crossings dropped by the refractory period
   uint64_t render_steps = 0;
   int64_t min_step_ns = 0;
   int64_t max_step_ns = 0;
-  double max_step_motion_px = 0;   ///< largest measured image motion of a step (≤ max_pixel_motion)
+  double max_step_motion_px = 0;  ///< largest measured image motion of a step (≤ max_pixel_motion)
   double wall_seconds = 0;
 };
 
@@ -72,20 +72,21 @@ class EventSimulator {
 
  private:
   std::size_t index(int x, int y) const {
-    return static_cast<std::size_t>(y) * static_cast<std::size_t>(camera_.width()) + static_cast<std::size_t>(x);
+    return static_cast<std::size_t>(y) * static_cast<std::size_t>(camera_.width()) +
+           static_cast<std::size_t>(x);
   }
   /// Renders rows [r0, r1) at the new pose and emits the events of the step (t_a, t_b] into `out`.
-  void processRows(const Renderer::Frame& frame, int64_t t_a, int64_t t_b, int r0, int r1, std::vector<Event>& out,
-                   uint64_t& drops);
+  void processRows(const Renderer::Frame& frame, int64_t t_a, int64_t t_b, int r0, int r1,
+                   std::vector<Event>& out, uint64_t& drops);
 
   const CameraModel& camera_;
   Renderer renderer_;
   EventSimConfig config_;
   uint64_t seed_;
   std::vector<float> c_on_, c_off_;
-  std::vector<float> intensity_;   // scratch: linear intensity at t_b
-  std::vector<float> log_prev_;    // L at the previous render
-  std::vector<float> log_ref_;     // L at each pixel's last event (reference)
+  std::vector<float> intensity_;  // scratch: linear intensity at t_b
+  std::vector<float> log_prev_;   // L at the previous render
+  std::vector<float> log_ref_;    // L at each pixel's last event (reference)
   std::vector<int64_t> last_event_ns_;
 };
 

@@ -54,9 +54,9 @@ bool isMotionPreset(const std::string& name);
 std::unique_ptr<Motion> makePresetMotion(const std::string& name, double duration_s);
 
 struct MotionFileOptions {
-  double cutoff_hz = 15.0;     ///< Gaussian low-pass cut-off (-3 dB); 0 disables the smoothing
-  double sample_dt_s = 0.005;  ///< spacing of the resampled poses = B-spline knot spacing
-  double position_scale = 1.0; ///< multiplies positions (e.g. to shrink a trajectory)
+  double cutoff_hz = 15.0;       ///< Gaussian low-pass cut-off (-3 dB); 0 disables the smoothing
+  double sample_dt_s = 0.005;    ///< spacing of the resampled poses = B-spline knot spacing
+  double position_scale = 1.0;   ///< multiplies positions (e.g. to shrink a trajectory)
   int64_t begin_ns = INT64_MIN;  ///< optional time window (file time base)
   int64_t end_ns = INT64_MAX;
 };
@@ -81,10 +81,10 @@ class SplineMotion : public Motion {
   int64_t begin_ns_ = 0;
   int64_t end_ns_ = 0;
   int64_t knot_dt_ns_ = 0;
-  int64_t grid_origin_ns_ = 0;  // τ_0, time of the first resampled pose
-  std::vector<Eigen::Vector3d> positions_;         // control points c_0 .. c_{n+1}
-  std::vector<Eigen::Quaterniond> rotations_;      // control rotations R_0 .. R_{n+1}
-  std::vector<Eigen::Vector3d> rotation_deltas_;   // Log(R_kᵀ R_{k+1})
+  int64_t grid_origin_ns_ = 0;                    // τ_0, time of the first resampled pose
+  std::vector<Eigen::Vector3d> positions_;        // control points c_0 .. c_{n+1}
+  std::vector<Eigen::Quaterniond> rotations_;     // control rotations R_0 .. R_{n+1}
+  std::vector<Eigen::Vector3d> rotation_deltas_;  // Log(R_kᵀ R_{k+1})
 };
 
 /// Reads a TUM / ECD ground-truth file and builds the smoothed spline motion. Errors in the file

@@ -5,9 +5,8 @@
 // their analytic pixel coverage (the two nearest candidates are blended), so silhouettes do not jump
 // from pixel to pixel.
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "asynevo/core/camera/camera_model.hpp"
 #include "asynevo/core/stamped_pose.hpp"

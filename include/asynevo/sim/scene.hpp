@@ -7,11 +7,10 @@
 // inside a textured box with at least 1.5 m clearance around the motion's bounding box). A scene file
 // (YAML) lists planes explicitly: docs/simulator.md §Scene files.
 
+#include <Eigen/Core>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "asynevo/core/camera/camera_model.hpp"
 #include "asynevo/sim/motion.hpp"
@@ -26,8 +25,8 @@ struct TexturedPlane {
   Eigen::Vector3d center_w = Eigen::Vector3d::Zero();
   Eigen::Vector3d u_w = Eigen::Vector3d::UnitX();  ///< unit, first in-plane axis
   Eigen::Vector3d v_w = Eigen::Vector3d::UnitY();  ///< unit, second in-plane axis (⊥ u)
-  double half_width = 1;   ///< extent along u from the centre (m)
-  double half_height = 1;  ///< extent along v from the centre (m)
+  double half_width = 1;                           ///< extent along u from the centre (m)
+  double half_height = 1;                          ///< extent along v from the centre (m)
   std::shared_ptr<const Texture> texture;
   Eigen::Vector2d texture_origin_m = Eigen::Vector2d::Zero();
   float intensity_scale = 1.0f;  ///< multiplies the texture (e.g. to make walls darker)
@@ -47,7 +46,8 @@ bool isBuiltinScene(const std::string& name);
 
 /// Builds a built-in scene for `motion` seen by `camera`. Throws std::invalid_argument for an unknown
 /// name.
-Scene makeBuiltinScene(const std::string& name, const Motion& motion, const CameraModel& camera, uint64_t seed);
+Scene makeBuiltinScene(const std::string& name, const Motion& motion, const CameraModel& camera,
+                       uint64_t seed);
 
 /// Loads a scene file (YAML). Throws InputError (file and line) on bad content.
 Scene loadSceneFile(const std::string& path, const Motion& motion, const CameraModel& camera, uint64_t seed);

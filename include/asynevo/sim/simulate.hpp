@@ -23,17 +23,17 @@ namespace asynevo::sim {
 constexpr double kDefaultPresetDurationS = 5.0;
 
 struct SimulationSpec {
-  std::string scene = "shapes";     ///< built-in scene name or scene file (YAML)
-  std::string motion = "6dof";      ///< motion preset or TUM/ECD ground-truth file
-  double duration_s = 0;            ///< 0 = preset default (5 s) or the whole span of a motion file
-  double start_offset_s = 0;        ///< motion files: start this long after the file's first pose
+  std::string scene = "shapes";  ///< built-in scene name or scene file (YAML)
+  std::string motion = "6dof";   ///< motion preset or TUM/ECD ground-truth file
+  double duration_s = 0;         ///< 0 = preset default (5 s) or the whole span of a motion file
+  double start_offset_s = 0;     ///< motion files: start this long after the file's first pose
   uint64_t seed = 1;
   std::optional<CameraModel> camera;  ///< default: the ECD DAVIS240C calibration (radtan, 240x180)
   EventSimConfig sensor;
-  MotionFileOptions motion_file;    ///< smoothing of motion files
+  MotionFileOptions motion_file;  ///< smoothing of motion files
   double groundtruth_rate_hz = 1000.0;
-  double frame_rate_hz = 0;         ///< > 0: also write images/ and images.txt
-  bool write_binary = false;        ///< also write events.aevt
+  double frame_rate_hz = 0;   ///< > 0: also write images/ and images.txt
+  bool write_binary = false;  ///< also write events.aevt
 };
 
 struct SimulationResult {
@@ -52,7 +52,8 @@ std::unique_ptr<Motion> makeMotion(const SimulationSpec& spec);
 /// Simulates and writes the folder `out_dir` (created if needed). `progress` (optional) is called
 /// after each render step with the simulated time reached. Throws InputError for bad input files,
 /// std::invalid_argument for bad settings, Error when the output cannot be written.
-SimulationResult simulateToFolder(const SimulationSpec& spec, const std::string& out_dir,
-                                  const std::function<void(int64_t t_ns, uint64_t events)>& progress = nullptr);
+SimulationResult simulateToFolder(
+    const SimulationSpec& spec, const std::string& out_dir,
+    const std::function<void(int64_t t_ns, uint64_t events)>& progress = nullptr);
 
 }  // namespace asynevo::sim

@@ -15,7 +15,8 @@ class Texture {
  public:
   /// `pixels`: row-major width*height intensities in [0, 1]; `texel_m`: size of one texel in metres;
   /// `repeat`: tile the texture over the plane (otherwise the border texels extend it).
-  Texture(std::vector<float> pixels, int width, int height, double texel_m, bool repeat, std::string description);
+  Texture(std::vector<float> pixels, int width, int height, double texel_m, bool repeat,
+          std::string description);
 
   /// Intensity at plane coordinates (u, v) in metres (u along the image rows, v down the columns, the
   /// texture's (0,0) corner at u = v = 0), pre-filtered for a pixel footprint of `footprint_m` metres.
@@ -54,8 +55,8 @@ class Texture {
 /// Procedural textures (all tile seamlessly; sizes in metres; deterministic for a seed). Intensities:
 /// dark 0.1, bright 0.9 unless stated.
 struct TextureOptions {
-  double tile_m = 1.0;      ///< side of one tile
-  int texels = 1024;        ///< texels per tile side (a power of two)
+  double tile_m = 1.0;  ///< side of one tile
+  int texels = 1024;    ///< texels per tile side (a power of two)
   uint64_t seed = 1;
 };
 /// Random dark polygons and ellipses on white, like the ECD "shapes" poster (about 12 per m²,

@@ -2,10 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/LU>
 #include <cmath>
 #include <stdexcept>
-
-#include <Eigen/LU>
 
 namespace asynevo {
 
@@ -204,7 +203,8 @@ UndistortResult CameraModel::undistort(const Eigen::Vector2d& xd, const Undistor
       }
       result.xn = x;
       result.residual = norm;
-      result.converged = std::isfinite(norm) && norm <= options.tolerance && distortJacobian(x).determinant() > 0;
+      result.converged =
+          std::isfinite(norm) && norm <= options.tolerance && distortJacobian(x).determinant() > 0;
       return result;
     }
     case DistortionModel::kEquidistant: {
@@ -273,8 +273,8 @@ template UndistortionTable<float> CameraModel::undistortionTable<float>(const Un
 template UndistortionTable<double> CameraModel::undistortionTable<double>(const UndistortOptions&) const;
 
 std::string CameraModel::summary() const {
-  std::string s = fmt::format("{}x{} fx={:.6g} fy={:.6g} cx={:.6g} cy={:.6g} {}", width_, height_, fx_, fy_, cx_,
-                              cy_, distortionModelName(model_));
+  std::string s = fmt::format("{}x{} fx={:.6g} fy={:.6g} cx={:.6g} cy={:.6g} {}", width_, height_, fx_, fy_,
+                              cx_, cy_, distortionModelName(model_));
   if (!coefficients_.empty()) s += fmt::format(" [{:.6g}]", fmt::join(coefficients_, " "));
   return s;
 }

@@ -8,12 +8,11 @@
 //   normalized         (xn, yn) = (X / Z, Y / Z) of a point in the camera frame (undistorted).
 //   bearing            unit vector (xn, yn, 1) / |(xn, yn, 1)|.
 
+#include <Eigen/Core>
 #include <array>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "asynevo/core/camera/undistortion_table.hpp"
 
@@ -96,7 +95,8 @@ class CameraModel {
   /// point is not in front of the camera (Z <= min_depth); it does not check the image bounds.
   std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& p_c, double min_depth = 1e-9) const;
   /// Raw pixel -> normalized undistorted coordinates; nullopt when the undistortion does not converge.
-  std::optional<Eigen::Vector2d> unproject(const Eigen::Vector2d& pixel, const UndistortOptions& options = {}) const;
+  std::optional<Eigen::Vector2d> unproject(const Eigen::Vector2d& pixel,
+                                           const UndistortOptions& options = {}) const;
   /// Raw pixel -> unit bearing vector in the camera frame; nullopt when the undistortion does not converge.
   std::optional<Eigen::Vector3d> unprojectBearing(const Eigen::Vector2d& pixel,
                                                   const UndistortOptions& options = {}) const;

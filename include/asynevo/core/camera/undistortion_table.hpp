@@ -3,11 +3,10 @@
 // turns a raw event pixel into (xn, yn) with one memory read instead of an iterative undistortion.
 // Built by CameraModel::undistortionTable<Scalar>().
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace asynevo {
 
