@@ -87,6 +87,24 @@ TEST(CameraModel, DistortJacobianMatchesFiniteDifferences) {
   }
 }
 
+TEST(CameraModel, ProjectionJacobianMatchesFiniteDifferences) {
+  for (const CameraModel& camera : allCameras()) {
+    const Eigen::Vector3d p(0.4, -0.3, 1.7);
+    Eigen::Matrix<double, 2, 3> J;
+    const auto pixel = camera.project(p, &J);
+    ASSERT_TRUE(pixel.has_value());
+    EXPECT_EQ(*pixel, *camera.project(p));
+    const double h = 1e-6;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d e = Eigen::Vector3d::Unit(k) * h;
+      const Eigen::Vector2d numeric = (*camera.project(p + e) - *camera.project(p - e)) / (2 * h);
+      EXPECT_NEAR((J.col(k) - numeric).norm(), 0.0, 1e-5 * (1 + numeric.norm())) << camera.summary();
+    }
+  }
+  Eigen::Matrix<double, 2, 3> J;
+  EXPECT_FALSE(CameraModel::davis240cEcd().project(Eigen::Vector3d(0, 0, -1), &J).has_value());
+}
+
 // Our undistortion against OpenCV's, in pixels (P = K), over a grid covering the whole image. OpenCV is
 // given enough iterations and a tight tolerance (its default is 5 iterations for radtan, which is not
 // converged at the corners of the strongly distorted ECD calibration).

@@ -243,6 +243,21 @@ std::optional<Eigen::Vector2d> CameraModel::project(const Eigen::Vector3d& p_c, 
   return normalizedToPixel(Eigen::Vector2d(p_c.x() / p_c.z(), p_c.y() / p_c.z()));
 }
 
+std::optional<Eigen::Vector2d> CameraModel::project(const Eigen::Vector3d& p_c,
+                                                    Eigen::Matrix<double, 2, 3>* J_pixel_p,
+                                                    double min_depth) const {
+  if (!(p_c.z() > min_depth) || !p_c.allFinite()) return std::nullopt;
+  const double inv_z = 1.0 / p_c.z();
+  const Eigen::Vector2d xn(p_c.x() * inv_z, p_c.y() * inv_z);
+  if (J_pixel_p) {
+    Eigen::Matrix<double, 2, 3> d_xn_d_p;
+    d_xn_d_p << inv_z, 0, -xn.x() * inv_z, 0, inv_z, -xn.y() * inv_z;
+    const Eigen::Matrix2d d_pixel_d_xd = Eigen::Vector2d(fx_, fy_).asDiagonal();
+    *J_pixel_p = d_pixel_d_xd * distortJacobian(xn) * d_xn_d_p;
+  }
+  return normalizedToPixel(xn);
+}
+
 std::optional<Eigen::Vector2d> CameraModel::unproject(const Eigen::Vector2d& pixel,
                                                       const UndistortOptions& options) const {
   const UndistortResult r = undistort(pixelToDistorted(pixel), options);

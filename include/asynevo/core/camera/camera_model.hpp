@@ -94,6 +94,10 @@ class CameraModel {
   /// Projects a point in the camera frame to a raw pixel (with distortion). Returns nullopt when the
   /// point is not in front of the camera (Z <= min_depth); it does not check the image bounds.
   std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& p_c, double min_depth = 1e-9) const;
+  /// project() and its Jacobian d(pixel)/d(p_c) (2x3) in `J_pixel_p` (chain: intrinsics · distortion ·
+  /// perspective division). Same validity as project().
+  std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& p_c, Eigen::Matrix<double, 2, 3>* J_pixel_p,
+                                         double min_depth = 1e-9) const;
   /// Raw pixel -> normalized undistorted coordinates; nullopt when the undistortion does not converge.
   std::optional<Eigen::Vector2d> unproject(const Eigen::Vector2d& pixel,
                                            const UndistortOptions& options = {}) const;
