@@ -1,0 +1,86 @@
+#pragma once
+// The backend interface: both AsynEVO's sliding-window estimator and the incremental baseline
+// implement it, so the pipeline and the CLI do not depend on which one runs (DESIGN.md §2, §4).
+//
+// Call order (one thread): any number of addMeasurement()/endFeature(), then advanceTo(t) whenever
+// event time has reached t; decisions depend only on this call sequence (offline determinism).
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "asynevo/backend/trajectory.hpp"
+#include "asynevo/frontend/track_measurement.hpp"
+
+namespace asynevo::backend {
+
+/// One backend update (a new knot and the work it triggered), for timing.csv.
+struct UpdateRecord {
+  int64_t event_t_ns = 0;    ///< event time that triggered the update
+  int window_knots = 0;
+  int landmarks = 0;
+  int measurements = 0;      ///< projection factors in the solve
+  int iterations = 0;
+  double triangulate_ms = 0;
+  double marginalize_ms = 0;
+  double solve_ms = 0;
+  double total_ms = 0;
+  double final_cost = 0;
+};
+
+struct EstimatorStats {
+  bool initialized = false;
+  int64_t initialized_at_ns = 0;
+  uint64_t init_attempts = 0;
+  std::string init_last_failure;  ///< why the last initialization attempt failed (with counts)
+  uint64_t measurements_received = 0;
+  uint64_t measurements_before_window = 0;  ///< arrived for a time older than the window: dropped
+  uint64_t measurements_out_of_order = 0;   ///< earlier than the same feature's previous one: dropped
+  uint64_t knots = 0;
+  uint64_t updates = 0;
+  uint64_t landmarks_created = 0;
+  std::array<uint64_t, 6> triangulation_failures{};  ///< by TriangulationFailure
+  uint64_t marginalizations = 0;
+  uint64_t knots_marginalized = 0;
+  uint64_t landmarks_marginalized = 0;
+  uint64_t forced_marginalizations = 0;          ///< N_max safeguard used
+  uint64_t observations_dropped_forced = 0;      ///< dropped to keep the prior on knots only
+  uint64_t observations_dropped_untriangulated = 0;  ///< of trajectories never triangulated, leaving the window
+  uint64_t outliers_removed = 0;
+  uint64_t landmarks_lost = 0;  ///< fewer than two observations left after outlier removal
+  int max_window_knots = 0;
+  int last_prior_rank = 0;
+};
+
+/// A triangulated landmark (world coordinates) for landmarks.ply.
+struct LandmarkPoint {
+  int64_t id = 0;
+  Eigen::Vector3d p_w = Eigen::Vector3d::Zero();
+  int observations = 0;
+};
+
+class Estimator {
+ public:
+  virtual ~Estimator() = default;
+  virtual const char* name() const = 0;
+  virtual void addMeasurement(const TrackMeasurement& m) = 0;
+  /// The frontend ended this feature: no more measurements will come for it.
+  virtual void endFeature(int64_t feature_id) = 0;
+  /// Event time has reached t_ns: add knots, triangulate, marginalize and solve as needed.
+  virtual void advanceTo(int64_t t_ns) = 0;
+  /// End of stream: final solve; every remaining knot becomes final.
+  virtual void finish() = 0;
+
+  /// Knots whose estimate will not change any more, oldest first, handed out once.
+  virtual std::vector<Knot> takeFinalKnots() = 0;
+  /// Update records since the last call.
+  virtual std::vector<UpdateRecord> takeUpdateRecords() = 0;
+  /// Landmarks marginalized since the last call plus, after finish(), all remaining ones.
+  virtual std::vector<LandmarkPoint> takeFinalLandmarks() = 0;
+  virtual const EstimatorStats& stats() const = 0;
+};
+
+}  // namespace asynevo::backend

@@ -1,0 +1,32 @@
+#pragma once
+// Monocular two-view initialization from feature trajectories (DESIGN.md §4 Initialization):
+// pick two times t_a < t_b with enough features seen at both and enough image motion, estimate the
+// relative pose with the five-point algorithm in RANSAC (OpenCV findEssentialMat/recoverPose; Nistér,
+// PAMI 2004), and fix the monocular scale by a unit baseline between the two times.
+
+#include <cstdint>
+#include <string>
+
+#include "asynevo/backend/feature_track.hpp"
+#include "asynevo/core/config/backend_config.hpp"
+#include "asynevo/lie/se3.hpp"
+
+namespace asynevo::backend {
+
+struct TwoViewResult {
+  bool ok = false;
+  std::string failure;  ///< when !ok: which check failed, with the counts
+  int64_t t_a_ns = 0;
+  int64_t t_b_ns = 0;
+  lie::SE3 T_a_b;       ///< camera at t_b in the frame of the camera at t_a, |t| = 1
+  int features = 0;     ///< features seen at both times
+  int inliers = 0;
+  double parallax_px = 0;  ///< median image displacement between the two times
+};
+
+/// Tries spans of init_window_ms, 2/3 and 1/3 of it, ending at t_b_ns (never before `earliest_ns`).
+/// `focal` converts normalized units to pixels for the thresholds.
+TwoViewResult initializeTwoView(const TrackMap& tracks, int64_t earliest_ns, int64_t t_b_ns, double focal,
+                                const BackendConfig& config);
+
+}  // namespace asynevo::backend

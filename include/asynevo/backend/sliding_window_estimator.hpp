@@ -1,0 +1,100 @@
+#pragma once
+// AsynEVO's backend (DESIGN.md §4 Backend): a sliding window of GP knots every knot_dt of event time,
+// every measurement a GP projection factor at its own time, WNOA priors between knots, Levenberg–
+// Marquardt (Ceres, DENSE_SCHUR, Huber loss), and dynamic marginalization (paper Alg. 1) with the
+// N_max safeguard. docs/backend.md describes each step.
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <vector>
+
+#include "asynevo/backend/estimator.hpp"
+#include "asynevo/backend/factor_graph.hpp"
+#include "asynevo/backend/feature_track.hpp"
+#include "asynevo/backend/trajectory.hpp"
+#include "asynevo/core/config/backend_config.hpp"
+
+namespace ceres {
+class Manifold;
+}
+
+namespace asynevo::backend {
+
+struct EstimatorOptions {
+  BackendConfig config;
+  double focal_px = 200.0;  ///< mean focal length: converts pixel thresholds to normalized units
+  bool real_time = false;   ///< enables the solver's wall-time cap (non-deterministic)
+  bool marginalize = true;  ///< false: keep the whole history (the incremental baseline's mode)
+};
+
+class SlidingWindowEstimator : public Estimator {
+ public:
+  explicit SlidingWindowEstimator(const EstimatorOptions& options);
+  ~SlidingWindowEstimator() override;
+
+  const char* name() const override { return "asynevo-sliding-window"; }
+  void addMeasurement(const TrackMeasurement& m) override;
+  void endFeature(int64_t feature_id) override;
+  void advanceTo(int64_t t_ns) override;
+  void finish() override;
+
+  std::vector<Knot> takeFinalKnots() override;
+  std::vector<UpdateRecord> takeUpdateRecords() override;
+  std::vector<LandmarkPoint> takeFinalLandmarks() override;
+  const EstimatorStats& stats() const override { return stats_; }
+
+  const Trajectory& trajectory() const { return trajectory_; }
+  const TrackMap& tracks() const { return tracks_; }
+
+ protected:
+  /// The factors of the current window (WNOA, projections of triangulated tracks up to the newest knot,
+  /// the marginalization prior, the initial state prior) and the kind of every block they touch.
+  struct ProjectionSource {
+    FeatureTrack* track;
+    std::size_t observation;  ///< index into track->observations
+    std::size_t factor;       ///< index into the factor list
+  };
+  void buildFactors(std::vector<FactorEntry>& factors, std::map<double*, BlockKind>& kinds,
+                    std::vector<ProjectionSource>* projection_sources);
+  /// One Levenberg–Marquardt solve of the window; returns iterations and final cost.
+  std::pair<int, double> solve(int max_iterations);
+
+ private:
+  void tryInitialize(int64_t t_ns);
+  void update(int64_t t_ns);
+  void triangulateTracks();
+  void marginalizeDynamic();
+  void removeOutliers();
+  void finalizeKnot(const Knot& knot);
+  void finalizeLandmark(const FeatureTrack& track);
+  double normalizedThreshold(double px) const { return px / options_.focal_px; }
+
+  EstimatorOptions options_;
+  int64_t knot_dt_ns_;
+  Eigen::Matrix<double, 6, 6> Q_c_;
+  std::unique_ptr<ceres::Manifold> se3_manifold_;
+  std::shared_ptr<ceres::LossFunction> huber_;
+
+  Trajectory trajectory_;
+  TrackMap tracks_;
+  std::optional<FactorEntry> prior_;          ///< marginalization prior (on knots only)
+  /// Gauge and scale anchors from initialization (a state prior on the first knot, a distance between
+  /// two knots); each leaves for the marginalization prior with the first of its knots.
+  struct Anchor {
+    FactorEntry factor;
+    std::vector<int64_t> knots;
+  };
+  std::vector<Anchor> anchors_;
+  int64_t first_measurement_ns_ = -1;
+  std::optional<int64_t> last_init_attempt_ns_;
+  int64_t last_event_ns_ = 0;
+
+  std::vector<Knot> final_knots_;
+  std::vector<UpdateRecord> records_;
+  std::vector<LandmarkPoint> final_landmarks_;
+  EstimatorStats stats_;
+};
+
+}  // namespace asynevo::backend

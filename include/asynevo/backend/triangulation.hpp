@@ -1,0 +1,41 @@
+#pragma once
+// Multi-view triangulation of one feature trajectory from GP-interpolated camera poses: linear (DLT on
+// the homogeneous point, smallest eigenvector of AᵀA) followed by a few Gauss-Newton steps on the
+// normalized reprojection error (Hartley & Zisserman, Multiple View Geometry, §12.2). The result is
+// checked for parallax, depth and reprojection error, and a failure says which check failed.
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "asynevo/lie/se3.hpp"
+
+namespace asynevo::backend {
+
+/// One observation: the camera pose at the measurement time and the normalized image point.
+struct TriangulationView {
+  lie::SE3 T_w_c;
+  Eigen::Vector2d xn;
+};
+
+struct TriangulationOptions {
+  double min_parallax_deg = 1.0;  ///< largest angle between any view's ray and the first view's ray
+  double max_error = 3.0 / 200;   ///< largest reprojection error, normalized units (px / focal length)
+  double min_depth = 0.05;        ///< smallest depth in any view
+  int refinement_iterations = 5;
+};
+
+enum class TriangulationFailure { kNone, kTooFewViews, kLowParallax, kDegenerate, kBehindCamera, kHighError };
+constexpr int kTriangulationFailureCount = 6;
+const char* triangulationFailureName(TriangulationFailure failure);
+
+struct TriangulationResult {
+  std::optional<Eigen::Vector3d> p_w;  ///< set when every check passed
+  TriangulationFailure failure = TriangulationFailure::kNone;
+  double parallax_deg = 0;
+  double max_error = 0;  ///< normalized units
+};
+
+TriangulationResult triangulate(const std::vector<TriangulationView>& views, const TriangulationOptions& options);
+
+}  // namespace asynevo::backend

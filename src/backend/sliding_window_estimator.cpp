@@ -1,0 +1,443 @@
+#include "asynevo/backend/sliding_window_estimator.hpp"
+
+#include <ceres/loss_function.h>
+#include <ceres/manifold.h>
+#include <ceres/problem.h>
+#include <ceres/solver.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "asynevo/backend/factors/gp_projection_factor.hpp"
+#include "asynevo/backend/factors/scale_anchor_factor.hpp"
+#include "asynevo/backend/factors/se3_manifold.hpp"
+#include "asynevo/backend/factors/state_prior_factor.hpp"
+#include "asynevo/backend/factors/wnoa_prior_factor.hpp"
+#include "asynevo/backend/initializer.hpp"
+#include "asynevo/backend/marginalization.hpp"
+#include "asynevo/backend/triangulation.hpp"
+#include "asynevo/core/time.hpp"
+
+namespace asynevo::backend {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options)
+    : options_(options),
+      knot_dt_ns_(std::llround(options.config.knot_dt_ms * 1e6)),
+      se3_manifold_(std::make_unique<SE3Manifold>()),
+      huber_(std::make_shared<ceres::HuberLoss>(options.config.huber_px / options.config.pixel_sigma)) {
+  options_.config.validate();
+  Q_c_.setZero();
+  for (int i = 0; i < 6; ++i) Q_c_(i, i) = options_.config.q_c[static_cast<std::size_t>(i)];
+}
+
+SlidingWindowEstimator::~SlidingWindowEstimator() = default;
+
+void SlidingWindowEstimator::addMeasurement(const TrackMeasurement& m) {
+  ++stats_.measurements_received;
+  if (stats_.initialized && m.t_ns < trajectory_.oldestTime()) {
+    ++stats_.measurements_before_window;
+    return;
+  }
+  FeatureTrack& track = tracks_[m.feature_id];
+  track.id = m.feature_id;
+  if (!track.observations.empty() && m.t_ns < track.lastTime()) {
+    ++stats_.measurements_out_of_order;
+    return;
+  }
+  track.observations.push_back({m.t_ns, Eigen::Vector2d(m.xn, m.yn)});
+  if (first_measurement_ns_ < 0) first_measurement_ns_ = m.t_ns;
+}
+
+void SlidingWindowEstimator::endFeature(int64_t feature_id) {
+  auto it = tracks_.find(feature_id);
+  if (it != tracks_.end()) it->second.ended = true;
+}
+
+void SlidingWindowEstimator::advanceTo(int64_t t_ns) {
+  last_event_ns_ = std::max(last_event_ns_, t_ns);
+  if (!stats_.initialized) {
+    const bool due = !last_init_attempt_ns_ || t_ns - *last_init_attempt_ns_ >= knot_dt_ns_;
+    if (first_measurement_ns_ >= 0 && due) tryInitialize(t_ns);
+    return;
+  }
+  while (t_ns >= trajectory_.newestTime() + knot_dt_ns_) {
+    trajectory_.extendTo(trajectory_.newestTime() + knot_dt_ns_);
+    ++stats_.knots;
+    update(t_ns);
+  }
+}
+
+void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
+  last_init_attempt_ns_ = t_ns;
+  ++stats_.init_attempts;
+  // Forget measurements too old to take part in any initialization window.
+  const int64_t horizon = t_ns - std::llround(options_.config.init_window_ms * 1e6);
+  for (auto it = tracks_.begin(); it != tracks_.end();) {
+    it->second.dropBefore(horizon);
+    it = it->second.observations.empty() ? tracks_.erase(it) : std::next(it);
+  }
+  // The second view lags event time by one knot interval: the newest measurements of most features are
+  // a little older than the newest event (tracker windows, min_dt), and both views need every feature.
+  const TwoViewResult two_view = initializeTwoView(tracks_, std::max(first_measurement_ns_, horizon),
+                                                   t_ns - knot_dt_ns_, options_.focal_px, options_.config);
+  if (!two_view.ok) {
+    stats_.init_last_failure = two_view.failure;
+    return;
+  }
+  // Knots on a grid from t_a, at constant velocity through the two views. The monocular scale is fixed
+  // so that the mean speed over the two-view span is 1 map unit per second: map velocities are then
+  // O(1) whatever the scene, and the WNOA Q_c has the same meaning on every sequence (docs/backend.md).
+  const double span_s = durationSeconds(two_view.t_a_ns, two_view.t_b_ns);
+  const lie::SE3 T_a_b(two_view.T_a_b.rotation(), two_view.T_a_b.translation() * span_s);
+  const lie::Vec6 w = lie::se3::log(T_a_b) / span_s;
+  Trajectory trajectory;
+  for (int64_t t = two_view.t_a_ns; t <= t_ns; t += knot_dt_ns_) {
+    trajectory.add(t, lie::se3::exp(durationSeconds(two_view.t_a_ns, t) * w), w);
+  }
+  if (trajectory.size() < 3) {
+    stats_.init_last_failure = "initialization window shorter than three knots";
+    return;
+  }
+  trajectory_ = std::move(trajectory);
+  for (auto& [id, track] : tracks_) {
+    track.dropBefore(trajectory_.oldestTime());
+    track.triangulated = false;
+    track.observations_at_last_attempt = 0;
+  }
+  // Gauge (first pose) and scale (first velocity, loosely) anchored by a prior on the first knot.
+  gp::Mat12 covariance = gp::Mat12::Zero();
+  covariance.diagonal().head<6>().setConstant(1e-8);
+  covariance.diagonal().segment<3>(6).setConstant(std::pow(0.5 * w.head<3>().norm() + 1e-3, 2));
+  covariance.diagonal().tail<3>().setConstant(1.0);
+  Knot& first = trajectory_.knots().begin()->second;
+  anchors_.clear();
+  anchors_.push_back({FactorEntry{std::make_shared<StatePriorFactor>(first.T_w_c(), first.twist(), covariance),
+                                  nullptr, {first.pose.data(), first.velocity.data()}},
+                      {first.t_ns}});
+  // Scale: the distance from the first knot to the last knot of the two-view span stays as initialized.
+  Knot& far = std::prev(trajectory_.knots().upper_bound(two_view.t_b_ns))->second;
+  const double baseline = (far.T_w_c().translation() - first.T_w_c().translation()).norm();
+  anchors_.push_back({FactorEntry{std::make_shared<ScaleAnchorFactor>(baseline, 1e-3 * baseline), nullptr,
+                                  {first.pose.data(), far.pose.data()}},
+                      {first.t_ns, far.t_ns}});
+
+  triangulateTracks();
+  int landmarks = 0;
+  for (const auto& [id, track] : tracks_) landmarks += track.triangulated;
+  if (landmarks < options_.config.init_min_inliers / 2) {
+    stats_.init_last_failure = fmt::format("two-view pose found ({} inliers) but only {} landmarks triangulated",
+                                           two_view.inliers, landmarks);
+    trajectory_ = Trajectory();
+    anchors_.clear();
+    for (auto& [id, track] : tracks_) track.triangulated = false;
+    return;
+  }
+  stats_.initialized = true;
+  stats_.initialized_at_ns = t_ns;
+  stats_.knots = trajectory_.size();
+  const auto start = Clock::now();
+  const auto [iterations, cost] = solve(std::max(options_.config.max_iterations, 20));
+  removeOutliers();
+  UpdateRecord record;
+  record.event_t_ns = t_ns;
+  record.window_knots = static_cast<int>(trajectory_.size());
+  record.landmarks = landmarks;
+  record.iterations = iterations;
+  record.final_cost = cost;
+  record.solve_ms = msSince(start);
+  record.total_ms = record.solve_ms;
+  records_.push_back(record);
+}
+
+void SlidingWindowEstimator::update(int64_t t_ns) {
+  const auto start = Clock::now();
+  UpdateRecord record;
+  record.event_t_ns = t_ns;
+  triangulateTracks();
+  record.triangulate_ms = msSince(start);
+  const auto t_marg = Clock::now();
+  if (options_.marginalize) marginalizeDynamic();
+  record.marginalize_ms = msSince(t_marg);
+  const auto t_solve = Clock::now();
+  const auto [iterations, cost] = solve(options_.config.max_iterations);
+  removeOutliers();
+  record.solve_ms = msSince(t_solve);
+  record.iterations = iterations;
+  record.final_cost = cost;
+  record.window_knots = static_cast<int>(trajectory_.size());
+  for (const auto& [id, track] : tracks_) {
+    if (!track.triangulated) continue;
+    ++record.landmarks;
+    for (const auto& o : track.observations) record.measurements += trajectory_.covers(o.t_ns);
+  }
+  record.total_ms = msSince(start);
+  records_.push_back(record);
+  ++stats_.updates;
+  stats_.max_window_knots = std::max(stats_.max_window_knots, record.window_knots);
+}
+
+void SlidingWindowEstimator::triangulateTracks() {
+  const BackendConfig& c = options_.config;
+  TriangulationOptions tri;
+  tri.min_parallax_deg = c.min_parallax_deg;
+  tri.max_error = normalizedThreshold(c.max_triangulation_px);
+  tri.min_depth = c.min_depth;
+  for (auto& [id, track] : tracks_) {
+    if (track.triangulated) continue;
+    std::vector<TriangulationView> views;
+    for (const Observation& o : track.observations) {
+      if (trajectory_.covers(o.t_ns)) views.push_back({trajectory_.pose(o.t_ns), o.xn});
+    }
+    if (static_cast<int>(views.size()) < c.min_track_measurements) continue;
+    if (views.size() == track.observations_at_last_attempt) continue;  // nothing new since the last try
+    track.observations_at_last_attempt = views.size();
+    const TriangulationResult result = triangulate(views, tri);
+    if (!result.p_w) {
+      ++stats_.triangulation_failures[static_cast<std::size_t>(result.failure)];
+      continue;
+    }
+    track.triangulated = true;
+    Eigen::Map<Eigen::Vector3d>(track.p_w.data()) = *result.p_w;
+    ++stats_.landmarks_created;
+  }
+}
+
+void SlidingWindowEstimator::buildFactors(std::vector<FactorEntry>& factors, std::map<double*, BlockKind>& kinds,
+                                          std::vector<ProjectionSource>* projection_sources) {
+  factors.clear();
+  kinds.clear();
+  if (projection_sources) projection_sources->clear();
+  auto& knots = trajectory_.knots();
+  for (auto& [t, knot] : knots) {
+    kinds[knot.pose.data()] = BlockKind::kPose;
+    kinds[knot.velocity.data()] = BlockKind::kEuclidean;
+  }
+  for (auto it = knots.begin(); std::next(it) != knots.end(); ++it) {
+    Knot& a = it->second;
+    Knot& b = std::next(it)->second;
+    factors.push_back({std::make_shared<WnoaPriorFactor>(a.t_ns, b.t_ns, Q_c_), nullptr,
+                       {a.pose.data(), a.velocity.data(), b.pose.data(), b.velocity.data()}});
+  }
+  const double sigma = normalizedThreshold(options_.config.pixel_sigma);
+  for (auto& [id, track] : tracks_) {
+    if (!track.triangulated) continue;
+    kinds[track.p_w.data()] = BlockKind::kEuclidean;
+    for (std::size_t i = 0; i < track.observations.size(); ++i) {
+      const Observation& o = track.observations[i];
+      const auto seg = trajectory_.segment(o.t_ns);
+      if (!seg) continue;  // later than the newest knot: waits for the next knot
+      Knot& a = *const_cast<Knot*>(seg->first);
+      Knot& b = *const_cast<Knot*>(seg->second);
+      factors.push_back({std::make_shared<GpProjectionFactor>(o.xn, o.t_ns, a.t_ns, b.t_ns, sigma), huber_,
+                         {a.pose.data(), a.velocity.data(), b.pose.data(), b.velocity.data(), track.p_w.data()}});
+      if (projection_sources) projection_sources->push_back({&track, i, factors.size() - 1});
+    }
+  }
+  if (prior_) factors.push_back(*prior_);
+  for (const Anchor& anchor : anchors_) factors.push_back(anchor.factor);
+}
+
+std::pair<int, double> SlidingWindowEstimator::solve(int max_iterations) {
+  std::vector<FactorEntry> factors;
+  std::map<double*, BlockKind> kinds;
+  buildFactors(factors, kinds, nullptr);
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  std::vector<double> residual_scratch;
+  for (const FactorEntry& f : factors) {
+    // A projection whose point is behind the camera at the start would stop the solve: leave it out.
+    residual_scratch.resize(static_cast<std::size_t>(f.cost->num_residuals()));
+    if (!f.cost->Evaluate(f.blocks.data(), residual_scratch.data(), nullptr)) continue;
+    problem.AddResidualBlock(f.cost.get(), f.loss.get(), f.blocks);
+  }
+  for (const auto& [block, kind] : kinds) {
+    if (kind == BlockKind::kPose && problem.HasParameterBlock(block)) problem.SetManifold(block, se3_manifold_.get());
+  }
+  // No explicit elimination ordering: Ceres's own Schur ordering is computed from the program order
+  // (insertion order, deterministic) and finds the landmarks as the independent set. An explicit
+  // ParameterBlockOrdering keeps its groups as sets of pointers, i.e. in heap-address order, which
+  // would make the floating-point result depend on where the allocator put the blocks.
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_SCHUR;
+  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  solver_options.max_num_iterations = max_iterations;
+  solver_options.num_threads = options_.config.solver_threads;
+  solver_options.logging_type = ceres::SILENT;
+  if (options_.real_time) solver_options.max_solver_time_in_seconds = options_.config.max_solver_time_s;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  return {static_cast<int>(summary.iterations.size()), summary.final_cost};
+}
+
+void SlidingWindowEstimator::marginalizeDynamic() {
+  const BackendConfig& c = options_.config;
+  std::vector<int64_t> times;
+  for (const auto& [t, knot] : trajectory_.knots()) times.push_back(t);
+  const int n = static_cast<int>(times.size());
+  if (n <= c.window_min_knots) return;
+
+  // Paper Alg. 1: a trajectory is marked if it started in [t_0, t_1) and ended before t_ε.
+  const int64_t t0 = times[0], t1 = times[1], tN = times.back();
+  const auto t_eps = static_cast<int64_t>(std::llround((1.0 - c.marginalization_epsilon) * static_cast<double>(t0) +
+                                                       c.marginalization_epsilon * static_cast<double>(tN)));
+  std::set<int64_t> marked;
+  for (const auto& [id, track] : tracks_) {
+    if (!track.observations.empty() && track.firstTime() >= t0 && track.firstTime() < t1 && track.lastTime() < t_eps)
+      marked.insert(id);
+  }
+  // Walk from the oldest knot while the window is larger than N_min and every trajectory observed in
+  // [t_k, t_{k+1}] is marked; beyond N_max, marginalize anyway (observations tying it to active
+  // trajectories are dropped).
+  int count = 0;
+  bool forced = false;
+  while (n - count > c.window_min_knots && count < n - 1) {
+    bool all_marked = true;
+    for (const auto& [id, track] : tracks_) {
+      if (!marked.count(id) && track.observedIn(times[count], times[count + 1])) {
+        all_marked = false;
+        break;
+      }
+    }
+    if (!all_marked) {
+      if (n - count <= c.window_max_knots) break;
+      forced = true;
+    }
+    ++count;
+  }
+  if (count == 0) return;
+  const int64_t new_oldest = times[count];
+
+  // Observations that would tie a marginalized knot to an unmarked trajectory are dropped (forced case)
+  // or, for trajectories never triangulated, simply leave with the knots.
+  for (auto& [id, track] : tracks_) {
+    if (marked.count(id)) continue;
+    const std::size_t dropped = track.dropBefore(new_oldest);
+    if (dropped == 0) continue;
+    if (track.triangulated) {
+      stats_.observations_dropped_forced += dropped;
+    } else {
+      stats_.observations_dropped_untriangulated += dropped;
+    }
+    // A measurement exactly at the new oldest knot time uses the segment after it: kept.
+  }
+  if (forced) ++stats_.forced_marginalizations;
+
+  std::set<double*> to_marginalize;
+  for (int k = 0; k < count; ++k) {
+    Knot* knot = trajectory_.find(times[k]);
+    to_marginalize.insert(knot->pose.data());
+    to_marginalize.insert(knot->velocity.data());
+  }
+  for (int64_t id : marked) {
+    if (tracks_[id].triangulated) to_marginalize.insert(tracks_[id].p_w.data());
+  }
+  std::vector<FactorEntry> factors;
+  std::map<double*, BlockKind> kinds;
+  buildFactors(factors, kinds, nullptr);
+  std::vector<const FactorEntry*> touching;
+  for (const FactorEntry& f : factors) {
+    const bool touches = std::any_of(f.blocks.begin(), f.blocks.end(), [&](double* b) { return to_marginalize.count(b) > 0; });
+    if (touches || (prior_ && f.cost == prior_->cost)) touching.push_back(&f);
+  }
+  const MarginalizationResult result = marginalize(touching, to_marginalize, kinds);
+  ++stats_.marginalizations;
+  stats_.last_prior_rank = result.prior_rank;
+
+  // Copy the prior's blocks before the knots they may point to are erased (they are all kept knots).
+  if (result.prior) {
+    prior_ = FactorEntry{result.prior, nullptr, result.prior_blocks};
+  } else {
+    prior_.reset();
+  }
+  for (int k = 0; k < count; ++k) {
+    finalizeKnot(*trajectory_.find(times[k]));
+    anchors_.erase(std::remove_if(anchors_.begin(), anchors_.end(),
+                                  [&](const Anchor& a) {
+                                    return std::find(a.knots.begin(), a.knots.end(), times[k]) != a.knots.end();
+                                  }),
+                   anchors_.end());
+    trajectory_.remove(times[k]);
+    ++stats_.knots_marginalized;
+  }
+  for (int64_t id : marked) {
+    auto it = tracks_.find(id);
+    if (it->second.triangulated) {
+      finalizeLandmark(it->second);
+      ++stats_.landmarks_marginalized;
+    } else {
+      stats_.observations_dropped_untriangulated += it->second.observations.size();
+    }
+    tracks_.erase(it);
+  }
+  for (auto it = tracks_.begin(); it != tracks_.end();) {
+    it = it->second.observations.empty() ? tracks_.erase(it) : std::next(it);
+  }
+}
+
+void SlidingWindowEstimator::removeOutliers() {
+  std::vector<FactorEntry> factors;
+  std::map<double*, BlockKind> kinds;
+  std::vector<ProjectionSource> sources;
+  buildFactors(factors, kinds, &sources);
+  const double limit = normalizedThreshold(options_.config.outlier_px) / normalizedThreshold(options_.config.pixel_sigma);
+  std::map<FeatureTrack*, std::vector<std::size_t>> bad;
+  double residual[2];
+  for (const ProjectionSource& source : sources) {
+    const FactorEntry& f = factors[source.factor];
+    const bool ok = f.cost->Evaluate(f.blocks.data(), residual, nullptr);
+    if (!ok || std::hypot(residual[0], residual[1]) > limit) bad[source.track].push_back(source.observation);
+  }
+  for (auto& [track, indices] : bad) {
+    for (auto it = indices.rbegin(); it != indices.rend(); ++it) {
+      track->observations.erase(track->observations.begin() + static_cast<std::ptrdiff_t>(*it));
+      ++stats_.outliers_removed;
+    }
+    int inside = 0;
+    for (const auto& o : track->observations) inside += trajectory_.covers(o.t_ns);
+    if (inside < 2) {  // not enough left to constrain the landmark: back to an untriangulated trajectory
+      track->triangulated = false;
+      track->observations_at_last_attempt = 0;
+      ++stats_.landmarks_lost;
+    }
+  }
+}
+
+void SlidingWindowEstimator::finish() {
+  if (stats_.initialized) {
+    while (last_event_ns_ > trajectory_.newestTime()) {  // cover the stream's tail with one more knot
+      trajectory_.extendTo(trajectory_.newestTime() + knot_dt_ns_);
+      ++stats_.knots;
+      update(last_event_ns_);
+    }
+    for (const auto& [t, knot] : trajectory_.knots()) finalizeKnot(knot);
+    for (const auto& [id, track] : tracks_) {
+      if (track.triangulated) finalizeLandmark(track);
+    }
+  }
+}
+
+void SlidingWindowEstimator::finalizeKnot(const Knot& knot) { final_knots_.push_back(knot); }
+
+void SlidingWindowEstimator::finalizeLandmark(const FeatureTrack& track) {
+  final_landmarks_.push_back({track.id, Eigen::Map<const Eigen::Vector3d>(track.p_w.data()),
+                              static_cast<int>(track.observations.size())});
+}
+
+std::vector<Knot> SlidingWindowEstimator::takeFinalKnots() { return std::exchange(final_knots_, {}); }
+std::vector<UpdateRecord> SlidingWindowEstimator::takeUpdateRecords() { return std::exchange(records_, {}); }
+std::vector<LandmarkPoint> SlidingWindowEstimator::takeFinalLandmarks() { return std::exchange(final_landmarks_, {}); }
+
+}  // namespace asynevo::backend

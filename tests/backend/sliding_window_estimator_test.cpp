@@ -1,0 +1,123 @@
+#include "asynevo/backend/sliding_window_estimator.hpp"
+
+#include <gtest/gtest.h>
+
+#include "asynevo/eval/alignment.hpp"
+#include "synthetic_scene.hpp"
+
+namespace asynevo::backend {
+namespace {
+
+using testing::SyntheticScene;
+
+struct RunResult {
+  std::vector<Knot> knots;
+  EstimatorStats stats;
+  std::vector<UpdateRecord> records;
+};
+
+RunResult runEstimator(const std::vector<TrackMeasurement>& measurements, double duration_s, EstimatorOptions options) {
+  SlidingWindowEstimator estimator(options);
+  RunResult result;
+  std::size_t next = 0;
+  for (int64_t t = 0; t <= std::llround(duration_s * 1e9); t += 1'000'000) {  // 1 ms event-time ticks
+    while (next < measurements.size() && measurements[next].t_ns <= t) estimator.addMeasurement(measurements[next++]);
+    estimator.advanceTo(t);
+    for (auto& k : estimator.takeFinalKnots()) result.knots.push_back(k);
+    for (auto& r : estimator.takeUpdateRecords()) result.records.push_back(r);
+  }
+  estimator.finish();
+  for (auto& k : estimator.takeFinalKnots()) result.knots.push_back(k);
+  for (auto& r : estimator.takeUpdateRecords()) result.records.push_back(r);
+  result.stats = estimator.stats();
+  return result;
+}
+
+struct Accuracy {
+  double ate_rmse = 0;
+  double path_length = 0;
+};
+
+Accuracy accuracy(const std::vector<Knot>& knots) {
+  std::vector<Eigen::Vector3d> p_est, p_gt;
+  std::vector<Eigen::Matrix3d> R_est, R_gt;
+  double length = 0;
+  for (const Knot& k : knots) {
+    const lie::SE3 gt = SyntheticScene::pose(k.t_ns * 1e-9);
+    if (!p_gt.empty()) length += (gt.translation() - p_gt.back()).norm();
+    p_est.push_back(k.T_w_c().translation());
+    R_est.push_back(k.T_w_c().rotation());
+    p_gt.push_back(gt.translation());
+    R_gt.push_back(gt.rotation());
+  }
+  const eval::Similarity S = eval::alignTrajectory(p_est, R_est, p_gt, R_gt, eval::AlignType::kSim3);
+  double sum = 0;
+  for (std::size_t i = 0; i < p_est.size(); ++i) sum += (S.apply(p_est[i]) - p_gt[i]).squaredNorm();
+  return {std::sqrt(sum / static_cast<double>(p_est.size())), length};
+}
+
+EstimatorOptions defaultOptions() {
+  EstimatorOptions options;
+  options.focal_px = 200;
+  options.config.init_min_parallax_px = 8;  // the synthetic camera moves slowly
+  return options;
+}
+
+TEST(SlidingWindowEstimator, TracksASyntheticSixDofTrajectoryAsWellAsTheFullBatchWithABoundedWindow) {
+  const SyntheticScene scene(150);
+  const double duration = 2.5;
+  const auto measurements = scene.measurements(duration, 0.01, 0.4, 0.3);
+  const RunResult run = runEstimator(measurements, duration, defaultOptions());
+  ASSERT_TRUE(run.stats.initialized) << run.stats.init_last_failure;
+  ASSERT_GT(run.knots.size(), 70u);
+  // Consecutive final knots: evenly spaced in time, finite.
+  for (std::size_t i = 1; i < run.knots.size(); ++i) {
+    ASSERT_EQ(run.knots[i].t_ns - run.knots[i - 1].t_ns, 30'000'000) << i;
+    ASSERT_TRUE(run.knots[i].T_w_c().matrix().allFinite());
+  }
+  EXPECT_GT(run.stats.marginalizations, 40u);
+  EXPECT_LE(run.stats.max_window_knots, defaultOptions().config.window_max_knots + 1);
+  EXPECT_GT(run.stats.landmarks_marginalized, 100u);
+
+  // The full-history smoother on the same input is the accuracy reference (reference/backend.md §5:
+  // the window must stay close to the full batch). Monocular scale drift limits both.
+  EstimatorOptions batch_options = defaultOptions();
+  batch_options.marginalize = false;
+  const RunResult batch = runEstimator(measurements, duration, batch_options);
+  const Accuracy window_accuracy = accuracy(run.knots);
+  const Accuracy batch_accuracy = accuracy(batch.knots);
+  EXPECT_LT(window_accuracy.ate_rmse, 1.5 * batch_accuracy.ate_rmse + 0.002)
+      << "window ATE " << window_accuracy.ate_rmse << ", batch ATE " << batch_accuracy.ate_rmse;
+  EXPECT_LT(window_accuracy.ate_rmse, 0.015 * window_accuracy.path_length)
+      << "ATE " << window_accuracy.ate_rmse << " over a path of " << window_accuracy.path_length;
+}
+
+TEST(SlidingWindowEstimator, SameInputGivesIdenticalOutput) {
+  const SyntheticScene scene(150);
+  const auto measurements = scene.measurements(1.5, 0.01, 0.4, 0.3);
+  const RunResult a = runEstimator(measurements, 1.5, defaultOptions());
+  const RunResult b = runEstimator(measurements, 1.5, defaultOptions());
+  ASSERT_TRUE(a.stats.initialized);
+  ASSERT_EQ(a.knots.size(), b.knots.size());
+  for (std::size_t i = 0; i < a.knots.size(); ++i) {
+    EXPECT_EQ(a.knots[i].pose, b.knots[i].pose) << i;
+    EXPECT_EQ(a.knots[i].velocity, b.knots[i].velocity) << i;
+  }
+}
+
+TEST(SlidingWindowEstimator, WithoutParallaxItReportsWhyInitializationFails) {
+  // A camera that does not move: every feature stays put.
+  std::vector<TrackMeasurement> still;
+  for (int64_t id = 0; id < 60; ++id)
+    for (int64_t t = 0; t < 600'000'000; t += 5'000'000)
+      still.push_back({id, t, float(10 + 3 * id), 50.f, float(-0.5 + 0.015 * id), -0.2f});
+  std::stable_sort(still.begin(), still.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
+  const RunResult run = runEstimator(still, 0.6, defaultOptions());
+  EXPECT_FALSE(run.stats.initialized);
+  EXPECT_GT(run.stats.init_attempts, 5u);
+  EXPECT_NE(run.stats.init_last_failure.find("median motion 0.0 px"), std::string::npos) << run.stats.init_last_failure;
+  EXPECT_TRUE(run.knots.empty());
+}
+
+}  // namespace
+}  // namespace asynevo::backend
