@@ -103,6 +103,18 @@ TEST(Se3, JacobianIdentities) {
   }
 }
 
+TEST(Se3, CombinedInverseJacobiansMatchTheSeparateOnes) {
+  std::mt19937 rng(20);
+  for (double theta : angleSweep()) {
+    const Vec6 xi = randomTwist(rng, theta);
+    Mat6 Jl_inv;
+    Mat6 Jr_inv;
+    se3::inverseJacobians(xi, &Jl_inv, &Jr_inv);
+    EXPECT_LT(maxAbs(Jl_inv - se3::leftJacobianInverse(xi)), 1e-14) << theta;
+    EXPECT_LT(maxAbs(Jr_inv - se3::rightJacobianInverse(xi)), 1e-14) << theta;
+  }
+}
+
 TEST(Se3, RightJacobianInverseMatchesBernoulliSeriesForModerateAngles) {
   std::mt19937 rng(17);
   for (double theta : {1e-9, 1e-5, 3e-3, 2e-2, 0.5}) {

@@ -70,7 +70,7 @@ class PoseInterpolator {
                    int series_order = kDefaultSeriesOrder)
       : weights_(weights) {
     xi_ = lie::se3::log(T_k.inverse() * T_k1);
-    J_inv_ = lie::se3::rightJacobianInverse(xi_);
+    lie::se3::inverseJacobians(xi_, with_jacobians ? &A1_ : nullptr, &J_inv_);
     J_inv_w_k1_ = J_inv_ * w_k1;
     xi_tau_ = weights.lambda12 * w_k + weights.psi11 * xi_ + weights.psi12 * J_inv_w_k1_;
     T_k_tau_ = lie::se3::exp(xi_tau_);
@@ -78,7 +78,6 @@ class PoseInterpolator {
     if (with_jacobians) {
       has_jacobians_ = true;
       J_tau_ = lie::se3::rightJacobian(xi_tau_);
-      A1_ = lie::se3::leftJacobianInverse(xi_);
       M_ = dJrInvTimesVecDxi(xi_, w_k1, series_order);
       W_ = weights.psi12 * M_;
       W_.diagonal().array() += weights.psi11;

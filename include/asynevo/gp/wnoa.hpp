@@ -135,12 +135,13 @@ struct PriorJacobians {
 inline Vec12 priorError(const SE3& T_k, const Vec6& w_k, const SE3& T_k1, const Vec6& w_k1, double dt,
                         PriorJacobians* jacobians = nullptr, int series_order = kDefaultSeriesOrder) {
   const Vec6 xi = lie::se3::log(T_k.inverse() * T_k1);
-  const Mat6 J_inv = lie::se3::rightJacobianInverse(xi);
+  Mat6 J_inv;
+  Mat6 A1;
+  lie::se3::inverseJacobians(xi, jacobians != nullptr ? &A1 : nullptr, &J_inv);
   Vec12 e;
   e.head<6>() = dt * w_k - xi;
   e.tail<6>() = w_k - J_inv * w_k1;
   if (jacobians != nullptr) {
-    const Mat6 A1 = lie::se3::leftJacobianInverse(xi);
     const Mat6 M = dJrInvTimesVecDxi(xi, w_k1, series_order);
     jacobians->d_e_d_pose_k << A1, M * A1;
     jacobians->d_e_d_vel_k << dt * Mat6::Identity(), Mat6::Identity();

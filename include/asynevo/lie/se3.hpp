@@ -179,6 +179,38 @@ inline Mat6 rightJacobian(const Vec6& xi) { return leftJacobian(-xi); }
 /// J_r⁻¹(ξ) = J_l⁻¹(−ξ).  Log(Exp(ξ) Exp(δ)) ≈ ξ + J_r⁻¹ δ.
 inline Mat6 rightJacobianInverse(const Vec6& xi) { return leftJacobianInverse(-xi); }
 
+/// J_l⁻¹(ξ) and J_r⁻¹(ξ) together, sharing the trigonometry and the products of Q_l: with
+/// Q_l(ξ) = O + E split into the parts odd and even under ξ → −ξ (O = ½ρ^ + c1 Pρ^P + c2(P²ρ^ + ρ^P² −
+/// 3Pρ^P), E = c1(Pρ^ + ρ^P) + c3(Pρ^P² + P²ρ^P)), Q_l(−ξ) = E − O. Either output may be null.
+inline void inverseJacobians(const Vec6& xi, Mat6* J_l_inv, Mat6* J_r_inv) {
+  const Vec3 phi = xi.tail<3>();
+  const double theta_sq = phi.squaredNorm();
+  const so3::Coefficients k = so3::coefficients(theta_sq);
+  const Eigen::Vector3d c = qLeftCoefficients(theta_sq);
+  const Mat3 P = so3::hat(phi);
+  const Mat3 Rh = so3::hat(xi.head<3>());
+  const Mat3 PR = P * Rh;
+  const Mat3 RP = Rh * P;
+  const Mat3 PRP = PR * P;
+  const Mat3 P2 = P * P;
+  const Mat3 odd = 0.5 * Rh + c[0] * PRP + c[1] * (P * PR + RP * P - 3.0 * PRP);
+  const Mat3 even = c[0] * (PR + RP) + c[2] * (PRP * P + P * PRP);
+  if (J_l_inv != nullptr) {
+    const Mat3 A = Mat3::Identity() - 0.5 * P + k.d * P2;  // J_l⁻¹(φ)
+    J_l_inv->setZero();
+    J_l_inv->topLeftCorner<3, 3>() = A;
+    J_l_inv->topRightCorner<3, 3>() = -A * (odd + even) * A;
+    J_l_inv->bottomRightCorner<3, 3>() = A;
+  }
+  if (J_r_inv != nullptr) {
+    const Mat3 A = Mat3::Identity() + 0.5 * P + k.d * P2;  // J_r⁻¹(φ) = J_l⁻¹(−φ)
+    J_r_inv->setZero();
+    J_r_inv->topLeftCorner<3, 3>() = A;
+    J_r_inv->topRightCorner<3, 3>() = -A * (even - odd) * A;
+    J_r_inv->bottomRightCorner<3, 3>() = A;
+  }
+}
+
 /// Right-perturbation difference: Log(T_b⁻¹ T_a), the inverse of the retraction T_b·Exp(δ).
 inline Vec6 boxMinus(const SE3& T_a, const SE3& T_b) { return log(T_b.inverse() * T_a); }
 
