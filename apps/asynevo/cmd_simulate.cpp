@@ -82,6 +82,8 @@ void addSimulateCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--noise-rate", spec.sensor.noise_rate_hz, "background noise events per pixel per second")
       ->capture_default_str();
+  cmd->add_option("--hot-pixels", spec.sensor.hot_pixels, "number of hot pixels (random, 50 Hz each)")
+      ->capture_default_str();
   cmd->add_option("--start", spec.start_offset_s, "motion file: start this many seconds after its first pose")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--position-scale", spec.motion_file.position_scale,

@@ -143,6 +143,21 @@ TEST(EventSimulator, BackgroundNoiseHasTheRequestedRate) {
   EXPECT_NEAR(on, events.size() / 2.0, 5 * std::sqrt(events.size() / 4.0));
 }
 
+TEST(EventSimulator, HotPixelsFireAtTheirRate) {
+  const CameraModel camera = pinhole();
+  const auto motion = makePresetMotion("static", 2.0);
+  const Scene scene = makeBuiltinScene("shapes", *motion, camera, 1);
+  EventSimConfig config;
+  config.hot_pixels = 3;
+  config.hot_pixel_rate_hz = 50;
+  const std::vector<Event> events = simulate(camera, scene, *motion, config, 5);
+  std::map<std::pair<int, int>, int> per_pixel;
+  for (const Event& e : events) ++per_pixel[{e.x, e.y}];
+  EXPECT_LE(per_pixel.size(), 3u);
+  const double expected = 3 * 50 * 2.0;
+  EXPECT_NEAR(static_cast<double>(events.size()), expected, 5 * std::sqrt(expected));
+}
+
 // A symmetric texture (checkerboard 0.1/0.9) moved back and forth over whole periods: each pixel ends
 // where it started, so ON and OFF events balance.
 TEST(EventSimulator, PolarityBalanceForSymmetricTexture) {
