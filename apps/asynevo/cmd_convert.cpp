@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <string>
+#include <tuple>
 
 #include "asynevo/core/config/config.hpp"
 #include "asynevo/core/error.hpp"
@@ -29,11 +30,14 @@ void runConvert(const ConvertOptions& options) {
   reader_options.format = options.format;
   reader_options.packet_size = config.input.packet_size;
   reader_options.max_time_reversal_ns = std::llround(config.input.max_time_reversal_us * 1e3);
+  const DatasetFiles files = resolveDataset(options.dataset);
   if (!options.config.empty()) {
     reader_options.width = config.sensor.width;
     reader_options.height = config.sensor.height;
+  } else {
+    std::tie(reader_options.width, reader_options.height) = sensorSizeFromCalibration(files);
   }
-  auto reader = openEventReader(resolveDataset(options.dataset).events, reader_options);
+  auto reader = openEventReader(files.events, reader_options);
   const std::string partial = options.out + ".partial";  // never leave a truncated file under the real name
   EventFileWriter writer(partial, reader->info().width, reader->info().height);
   Progress progress;

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <tuple>
 #include <string>
 
 #include "asynevo/core/config/config.hpp"
@@ -32,9 +33,11 @@ void runInfo(const InfoOptions& options) {
   reader_options.format = options.format;
   reader_options.packet_size = config.input.packet_size;
   reader_options.max_time_reversal_ns = std::llround(config.input.max_time_reversal_us * 1e3);
-  if (!options.config.empty()) {  // a config names the sensor explicitly; otherwise the format's default
+  if (!options.config.empty()) {  // a config names the sensor explicitly
     reader_options.width = config.sensor.width;
     reader_options.height = config.sensor.height;
+  } else {  // else a Kalibr calibration's resolution, else the format's default
+    std::tie(reader_options.width, reader_options.height) = sensorSizeFromCalibration(files);
   }
   auto reader = openEventReader(files.events, reader_options);
   Progress progress;

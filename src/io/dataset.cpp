@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "asynevo/core/error.hpp"
+#include "asynevo/io/calibration_io.hpp"
 
 namespace asynevo {
 
@@ -56,6 +57,17 @@ DatasetFiles resolveDataset(const std::string& path) {
   files.groundtruth = firstExisting(root, {"groundtruth.txt", "stamped_groundtruth.txt"});
   if (!files.groundtruth) files.groundtruth = findBySuffix(root, "_gt.hdf5");
   return files;
+}
+
+bool isKalibrCalibration(const std::string& path) {
+  const std::string ext = fs::path(path).extension().string();
+  return ext == ".yaml" || ext == ".yml";
+}
+
+std::pair<int, int> sensorSizeFromCalibration(const DatasetFiles& files) {
+  if (!files.calibration || !isKalibrCalibration(*files.calibration)) return {0, 0};
+  const CameraModel camera = readKalibrCalibration(*files.calibration);
+  return {camera.width(), camera.height()};
 }
 
 }  // namespace asynevo

@@ -100,3 +100,21 @@ TEST(Cli, UsageErrorsAreNonZero) {
 
 }  // namespace
 }  // namespace asynevo
+
+namespace asynevo {
+namespace {
+
+TEST(InfoCommand, SensorSizeComesFromAKalibrCalibration) {
+  testing::TempDir dir;
+  dir.write("events.txt", "0.1 300 200 1\n0.2 345 259 0\n");
+  dir.write("camchain.yaml",
+            "cam0:\n  camera_model: pinhole\n  distortion_model: equidistant\n  intrinsics: [226.4, 226.2, 173.6, "
+            "133.7]\n  distortion_coeffs: [-0.048, 0.011, -0.048, 0.018]\n  resolution: [346, 260]\n");
+  const auto result = testing::runAsynevo("info --dataset " + dir.path().string());
+  EXPECT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("sensor        346 x 260"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("events        2\n"), std::string::npos) << result.output;
+}
+
+}  // namespace
+}  // namespace asynevo

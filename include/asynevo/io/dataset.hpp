@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 
 namespace asynevo {
 
@@ -17,5 +18,13 @@ struct DatasetFiles {
 /// Resolves `path`: a folder must hold an event file (events.txt, events.aevt or *_data.hdf5); a file
 /// is taken as the event file. Throws InputError when nothing usable is found.
 DatasetFiles resolveDataset(const std::string& path);
+
+/// True for calibration files in Kalibr camchain YAML form (by extension: .yaml / .yml).
+bool isKalibrCalibration(const std::string& path);
+
+/// The sensor size to read a dataset's events with: the resolution of its Kalibr calibration when it has
+/// one, else {0, 0} (the event format's own default: 240×180 for ECD text, 346×260 for MVSEC, the
+/// header for .aevt). An explicit configuration (Config::sensor) overrides this in the commands.
+std::pair<int, int> sensorSizeFromCalibration(const DatasetFiles& files);
 
 }  // namespace asynevo
