@@ -372,6 +372,7 @@ void SlidingWindowEstimator::marginalizeDynamic() {
     trajectory_.remove(times[k]);
     ++stats_.knots_marginalized;
   }
+  renewScaleAnchor();
   for (int64_t id : marked) {
     auto it = tracks_.find(id);
     if (it->second.triangulated) {
@@ -385,6 +386,32 @@ void SlidingWindowEstimator::marginalizeDynamic() {
   for (auto it = tracks_.begin(); it != tracks_.end();) {
     it = it->second.observations.empty() ? tracks_.erase(it) : std::next(it);
   }
+}
+
+void SlidingWindowEstimator::renewScaleAnchor() {
+  // The WNOA prior is not scale invariant and keeps pulling a monocular map toward zero scale; the
+  // marginalization prior carries the initial anchor only weakly once observations are dropped (N_max).
+  // So whenever no scale anchor is left in the window, hold the current distance between the oldest knot
+  // and the knot farthest from it (a pseudo-measurement on the one unobservable scale direction).
+  const bool has_anchor = std::any_of(anchors_.begin(), anchors_.end(), [](const Anchor& a) { return a.knots.size() == 2; });
+  if (has_anchor || trajectory_.size() < 3 || options_.config.scale_anchor_sigma <= 0) return;
+  Knot& oldest = trajectory_.knots().begin()->second;
+  Knot* farthest = nullptr;
+  double distance = 0;
+  for (auto& [t, knot] : trajectory_.knots()) {
+    const double d = (knot.T_w_c().translation() - oldest.T_w_c().translation()).norm();
+    if (d > distance) {
+      distance = d;
+      farthest = &knot;
+    }
+  }
+  // Map speed is normalized to ~1 unit/s at initialization: require a baseline worth anchoring.
+  const double span_s = durationSeconds(trajectory_.oldestTime(), trajectory_.newestTime());
+  if (farthest == nullptr || distance < 0.1 * span_s) return;
+  anchors_.push_back({FactorEntry{std::make_shared<ScaleAnchorFactor>(distance, options_.config.scale_anchor_sigma * distance),
+                                  nullptr, {oldest.pose.data(), farthest->pose.data()}},
+                      {oldest.t_ns, farthest->t_ns}});
+  ++stats_.scale_anchors;
 }
 
 void SlidingWindowEstimator::removeOutliers() {

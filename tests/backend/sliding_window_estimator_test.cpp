@@ -69,13 +69,13 @@ TEST(SlidingWindowEstimator, TracksASyntheticSixDofTrajectoryAsWellAsTheFullBatc
   const auto measurements = scene.measurements(duration, 0.01, 0.4, 0.3);
   const RunResult run = runEstimator(measurements, duration, defaultOptions());
   ASSERT_TRUE(run.stats.initialized) << run.stats.init_last_failure;
-  ASSERT_GT(run.knots.size(), 70u);
+  ASSERT_GT(run.knots.size(), 40u);
   // Consecutive final knots: evenly spaced in time, finite.
   for (std::size_t i = 1; i < run.knots.size(); ++i) {
-    ASSERT_EQ(run.knots[i].t_ns - run.knots[i - 1].t_ns, 30'000'000) << i;
+    ASSERT_EQ(run.knots[i].t_ns - run.knots[i - 1].t_ns, std::llround(defaultOptions().config.knot_dt_ms * 1e6)) << i;
     ASSERT_TRUE(run.knots[i].T_w_c().matrix().allFinite());
   }
-  EXPECT_GT(run.stats.marginalizations, 40u);
+  EXPECT_GT(run.stats.marginalizations, 25u);
   EXPECT_LE(run.stats.max_window_knots, defaultOptions().config.window_max_knots + 1);
   EXPECT_GT(run.stats.landmarks_marginalized, 100u);
 
@@ -94,10 +94,11 @@ TEST(SlidingWindowEstimator, TracksASyntheticSixDofTrajectoryAsWellAsTheFullBatc
 
 TEST(SlidingWindowEstimator, SameInputGivesIdenticalOutput) {
   const SyntheticScene scene(150);
-  const auto measurements = scene.measurements(1.5, 0.01, 0.4, 0.3);
-  const RunResult a = runEstimator(measurements, 1.5, defaultOptions());
-  const RunResult b = runEstimator(measurements, 1.5, defaultOptions());
-  ASSERT_TRUE(a.stats.initialized);
+  const auto measurements = scene.measurements(2.0, 0.01, 0.4, 0.3);
+  const RunResult a = runEstimator(measurements, 2.0, defaultOptions());
+  const RunResult b = runEstimator(measurements, 2.0, defaultOptions());
+  ASSERT_TRUE(a.stats.initialized) << a.stats.init_last_failure;
+  ASSERT_GT(a.stats.marginalizations, 5u);
   ASSERT_EQ(a.knots.size(), b.knots.size());
   for (std::size_t i = 0; i < a.knots.size(); ++i) {
     EXPECT_EQ(a.knots[i].pose, b.knots[i].pose) << i;

@@ -51,6 +51,7 @@ struct EstimatorStats {
   uint64_t observations_dropped_untriangulated = 0;  ///< of trajectories never triangulated, leaving the window
   uint64_t outliers_removed = 0;
   uint64_t landmarks_lost = 0;  ///< fewer than two observations left after outlier removal
+  uint64_t scale_anchors = 0;  ///< scale anchors renewed after the initial one left the window
   int max_window_knots = 0;
   int last_prior_rank = 0;
 };

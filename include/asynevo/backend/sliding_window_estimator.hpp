@@ -66,6 +66,7 @@ class SlidingWindowEstimator : public Estimator {
   void update(int64_t t_ns);
   void triangulateTracks();
   void marginalizeDynamic();
+  void renewScaleAnchor();
   void removeOutliers();
   void finalizeKnot(const Knot& knot);
   void finalizeLandmark(const FeatureTrack& track);

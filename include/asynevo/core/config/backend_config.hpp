@@ -8,7 +8,7 @@ namespace asynevo {
 
 struct BackendConfig {
   // --- trajectory and prior ---
-  double knot_dt_ms = 30.0;  ///< knot spacing in event time
+  double knot_dt_ms = 50.0;  ///< knot spacing in event time
   /// Power-spectral density of the WNOA prior, diagonal [tx ty tz rx ry rz]: (m/s²)²·s for
   /// translation, (rad/s²)²·s for rotation. Monocular: translation units follow the map scale.
   std::vector<double> q_c = {1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
@@ -25,12 +25,13 @@ struct BackendConfig {
   double min_depth = 0.05;             ///< minimum depth in map units (cheirality)
 
   // --- window ---
-  int window_min_knots = 10;    ///< N_min: dynamic marginalization keeps at least this many knots
-  int window_max_knots = 40;    ///< N_max: past this the oldest knot is marginalized anyway
+  int window_min_knots = 8;     ///< N_min: dynamic marginalization keeps at least this many knots
+  int window_max_knots = 20;    ///< N_max: past this the oldest knot is marginalized anyway
   double marginalization_epsilon = 0.8;  ///< t_ε = (1 − ε) t_0 + ε t_N (paper Alg. 1: 0.8)
+  double scale_anchor_sigma = 0.1;       ///< relative σ of the renewed scale anchor (0 disables renewal)
 
   // --- solver ---
-  int max_iterations = 10;
+  int max_iterations = 5;
   double max_solver_time_s = 0.2;
   int solver_threads = 1;       ///< Ceres threads; 1 keeps offline runs bit-for-bit deterministic
 
@@ -55,6 +56,8 @@ struct BackendConfig {
     v("window_min_knots", window_min_knots, "N_min: the window keeps at least this many knots");
     v("window_max_knots", window_max_knots, "N_max: beyond this the oldest knot is marginalized anyway");
     v("marginalization_epsilon", marginalization_epsilon, "t_eps = (1 - eps) t_0 + eps t_N (paper: 0.8)");
+    v("scale_anchor_sigma", scale_anchor_sigma,
+      "relative sigma of the scale anchor renewed in the window once the initial one is marginalized (0 = off)");
     v("max_iterations", max_iterations, "Levenberg-Marquardt iterations per window solve");
     v("max_solver_time_s", max_solver_time_s, "wall-time cap per window solve [s]");
     v("solver_threads", solver_threads, "Ceres threads (1 = deterministic)");

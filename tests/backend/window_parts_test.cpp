@@ -1,0 +1,160 @@
+// Unit tests of the sliding window's parts: scale anchor factor, triangulation, Triggs-corrected
+// linearization and the Schur-complement marginalization.
+#include <ceres/loss_function.h>
+#include <ceres/sized_cost_function.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <random>
+
+#include "asynevo/backend/factor_graph.hpp"
+#include "asynevo/backend/factors/pose_block.hpp"
+#include "asynevo/backend/factors/scale_anchor_factor.hpp"
+#include "asynevo/backend/factors/se3_manifold.hpp"
+#include "asynevo/backend/marginalization.hpp"
+#include "asynevo/backend/trajectory.hpp"
+#include "asynevo/backend/triangulation.hpp"
+#include "testing/jacobian_check.hpp"
+
+namespace asynevo::backend {
+namespace {
+
+std::vector<double> poseBlock(const lie::SE3& T) {
+  std::vector<double> x(7);
+  poseToBlock(T, x.data());
+  return x;
+}
+
+TEST(ScaleAnchorFactor, JacobiansMatchNumericThroughTheManifold) {
+  const SE3Manifold se3;
+  const lie::SE3 T_a(lie::so3::exp(Eigen::Vector3d(0.3, -0.2, 0.1)), Eigen::Vector3d(0.1, 0.2, -0.3));
+  const lie::SE3 T_b(lie::so3::exp(Eigen::Vector3d(-0.1, 0.4, 0.2)), Eigen::Vector3d(1.1, -0.4, 0.5));
+  const ScaleAnchorFactor factor(1.0, 0.01);
+  const auto result = testing::checkJacobians(factor, {poseBlock(T_a), poseBlock(T_b)}, {&se3, &se3});
+  ASSERT_TRUE(result.evaluated);
+  EXPECT_LT(result.worstError(), 1e-6) << result.report();
+  double r = 0;
+  const std::vector<double> a = poseBlock(T_a), b = poseBlock(T_b);
+  const double* blocks[2] = {a.data(), b.data()};
+  ASSERT_TRUE(factor.Evaluate(blocks, &r, nullptr));
+  EXPECT_NEAR(r, ((T_b.translation() - T_a.translation()).norm() - 1.0) / 0.01, 1e-9);
+}
+
+TEST(Triangulation, RecoversAPointAndRejectsBadGeometry) {
+  const Eigen::Vector3d p_w(0.3, -0.2, 4.0);
+  std::vector<TriangulationView> views;
+  for (int i = 0; i < 5; ++i) {
+    const lie::SE3 T_w_c(lie::so3::exp(Eigen::Vector3d(0, 0.02 * i, 0)), Eigen::Vector3d(0.1 * i, 0, 0));
+    const Eigen::Vector3d p_c = T_w_c.inverse() * p_w;
+    views.push_back({T_w_c, p_c.head<2>() / p_c.z()});
+  }
+  TriangulationOptions options;
+  const TriangulationResult ok = triangulate(views, options);
+  ASSERT_TRUE(ok.p_w) << triangulationFailureName(ok.failure);
+  EXPECT_LT((*ok.p_w - p_w).norm(), 1e-9);
+  // World-frame rays from the first and the last camera centre (the largest angle here).
+  const Eigen::Vector3d ray0 = p_w.normalized(), ray4 = (p_w - Eigen::Vector3d(0.4, 0, 0)).normalized();
+  EXPECT_NEAR(ok.parallax_deg, std::acos(ray0.dot(ray4)) * 180 / M_PI, 1e-6);
+
+  EXPECT_EQ(triangulate({views[0]}, options).failure, TriangulationFailure::kTooFewViews);
+  std::vector<TriangulationView> same(3, views[0]);
+  EXPECT_EQ(triangulate(same, options).failure, TriangulationFailure::kLowParallax);
+  options.min_depth = 5.0;  // the point is at depth ~4
+  EXPECT_EQ(triangulate(views, options).failure, TriangulationFailure::kBehindCamera);
+  options.min_depth = 0.05;
+  views[2].xn += Eigen::Vector2d(0.05, 0);  // a 10 px outlier
+  EXPECT_EQ(triangulate(views, options).failure, TriangulationFailure::kHighError);
+}
+
+TEST(Trajectory, ConstantVelocityExtensionIsInterpolatedExactly) {
+  Trajectory trajectory;
+  lie::Vec6 w;
+  w << 0.5, -0.2, 0.1, 0.3, 0.1, -0.2;
+  trajectory.add(0, lie::SE3(), w);
+  trajectory.extendTo(50'000'000);
+  trajectory.extendTo(100'000'000);
+  for (int64_t t : {int64_t{0}, int64_t{13'000'000}, int64_t{50'000'000}, int64_t{77'000'000}, int64_t{100'000'000}}) {
+    const lie::SE3 expected = lie::se3::exp(t * 1e-9 * w);
+    EXPECT_LT((trajectory.pose(t).matrix() - expected.matrix()).norm(), 1e-12) << t;
+    EXPECT_LT((trajectory.velocity(t) - w).norm(), 1e-12) << t;
+  }
+  EXPECT_THROW(trajectory.pose(-1), std::out_of_range);
+  EXPECT_FALSE(trajectory.segment(100'000'001).has_value());
+  ASSERT_TRUE(trajectory.segment(100'000'000).has_value());
+  EXPECT_EQ(trajectory.segment(100'000'000)->first->t_ns, 50'000'000);
+}
+
+// r = A [x1; x2] − c, a linear factor on two Euclidean blocks of size 2.
+class LinearFactor final : public ceres::SizedCostFunction<3, 2, 2> {
+ public:
+  LinearFactor(Eigen::Matrix<double, 3, 4> A, Eigen::Vector3d c) : A_(std::move(A)), c_(std::move(c)) {}
+  bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
+    Eigen::Vector4d v(x[0][0], x[0][1], x[1][0], x[1][1]);
+    Eigen::Map<Eigen::Vector3d> r(residuals);
+    r = A_ * v - c_;
+    for (int b = 0; b < 2; ++b) {
+      if (jacobians == nullptr || jacobians[b] == nullptr) continue;
+      Eigen::Map<Eigen::Matrix<double, 3, 2, Eigen::RowMajor>> J(jacobians[b]);
+      J = A_.middleCols<2>(2 * b);
+    }
+    return true;
+  }
+
+ private:
+  Eigen::Matrix<double, 3, 4> A_;
+  Eigen::Vector3d c_;
+};
+
+TEST(Marginalization, SchurPriorEqualsTheAnalyticReductionOnALinearProblem) {
+  std::mt19937 rng(1);
+  std::normal_distribution<double> n(0, 1);
+  auto random = [&](auto m) {
+    for (int i = 0; i < m.size(); ++i) m.data()[i] = n(rng);
+    return m;
+  };
+  double x1[2] = {0.3, -0.1}, x2[2] = {1.0, 2.0}, x3[2] = {-0.5, 0.4};
+  const Eigen::Matrix<double, 3, 4> A1 = random(Eigen::Matrix<double, 3, 4>()), A2 = random(Eigen::Matrix<double, 3, 4>());
+  const Eigen::Vector3d c1 = random(Eigen::Vector3d()), c2 = random(Eigen::Vector3d());
+  FactorEntry f1{std::make_shared<LinearFactor>(A1, c1), nullptr, {x1, x2}};
+  FactorEntry f2{std::make_shared<LinearFactor>(A2, c2), nullptr, {x1, x3}};
+  const std::map<double*, BlockKind> kinds = {{x1, BlockKind::kEuclidean}, {x2, BlockKind::kEuclidean}, {x3, BlockKind::kEuclidean}};
+  const MarginalizationResult result = marginalize({&f1, &f2}, {x1}, kinds);
+  ASSERT_TRUE(result.prior);
+  ASSERT_EQ(result.prior_blocks, (std::vector<double*>{x2, x3}));
+  EXPECT_EQ(result.marginalized_dims, 2);
+  EXPECT_EQ(result.kept_dims, 4);
+  EXPECT_EQ(result.rank_mm, 2);
+
+  // Analytic: stack both factors over [x1; x2; x3] and eliminate x1.
+  Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Zero();
+  J.block<3, 2>(0, 0) = A1.leftCols<2>();
+  J.block<3, 2>(0, 2) = A1.rightCols<2>();
+  J.block<3, 2>(3, 0) = A2.leftCols<2>();
+  J.block<3, 2>(3, 4) = A2.rightCols<2>();
+  Eigen::Matrix<double, 6, 1> r;
+  r << A1 * Eigen::Vector4d(x1[0], x1[1], x2[0], x2[1]) - c1, A2 * Eigen::Vector4d(x1[0], x1[1], x3[0], x3[1]) - c2;
+  const Eigen::Matrix<double, 6, 6> H = J.transpose() * J;
+  const Eigen::Matrix<double, 6, 1> b = J.transpose() * r;
+  const Eigen::Matrix4d H_star = H.bottomRightCorner<4, 4>() - H.bottomLeftCorner<4, 2>() * H.topLeftCorner<2, 2>().inverse() * H.topRightCorner<2, 4>();
+  const Eigen::Vector4d b_star = b.tail<4>() - H.bottomLeftCorner<4, 2>() * H.topLeftCorner<2, 2>().inverse() * b.head<2>();
+  const Eigen::MatrixXd& Jp = result.prior->jacobian();
+  const Eigen::VectorXd& rp = result.prior->residual();
+  EXPECT_LT((Jp.transpose() * Jp - H_star).norm(), 1e-9 * H_star.norm());
+  EXPECT_LT((Jp.transpose() * rp - b_star).norm(), 1e-9 * (1 + b_star.norm()));
+}
+
+TEST(Linearize, HuberCorrectionScalesAnOutlierResidual) {
+  double x1[2] = {0, 0}, x2[2] = {0, 0};
+  Eigen::Matrix<double, 3, 4> A = Eigen::Matrix<double, 3, 4>::Zero();
+  A(0, 0) = 1;
+  const Eigen::Vector3d c(-10, 0, 0);  // residual 10 with a Huber threshold of 1
+  FactorEntry f{std::make_shared<LinearFactor>(A, c), std::make_shared<ceres::HuberLoss>(1.0), {x1, x2}};
+  const LinearizedFactor lin = linearize(f, {BlockKind::kEuclidean, BlockKind::kEuclidean});
+  ASSERT_TRUE(lin.valid);
+  // Huber beyond the threshold: ρ' = 1/|r|, ρ'' < 0 ⇒ α = 0, r and J scaled by √ρ'.
+  EXPECT_NEAR(lin.r(0), 10.0 / std::sqrt(10.0), 1e-12);
+  EXPECT_NEAR(lin.J[0](0, 0), 1.0 / std::sqrt(10.0), 1e-12);
+}
+
+}  // namespace
+}  // namespace asynevo::backend
