@@ -266,6 +266,11 @@ std::pair<int, double> SlidingWindowEstimator::solve(int max_iterations) {
   for (const auto& [block, kind] : kinds) {
     if (kind == BlockKind::kPose && problem.HasParameterBlock(block)) problem.SetManifold(block, se3_manifold_.get());
   }
+  for (const auto& [t, knot] : trajectory_.knots()) {
+    if (!isFrozen(knot)) continue;
+    for (const double* b : {knot.pose.data(), knot.velocity.data()})
+      if (problem.HasParameterBlock(b)) problem.SetParameterBlockConstant(b);
+  }
   // No explicit elimination ordering: Ceres's own Schur ordering is computed from the program order
   // (insertion order, deterministic) and finds the landmarks as the independent set. An explicit
   // ParameterBlockOrdering keeps its groups as sets of pointers, i.e. in heap-address order, which

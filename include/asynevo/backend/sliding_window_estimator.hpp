@@ -60,10 +60,14 @@ class SlidingWindowEstimator : public Estimator {
                     std::vector<ProjectionSource>* projection_sources);
   /// One Levenberg–Marquardt solve of the window; returns iterations and final cost.
   std::pair<int, double> solve(int max_iterations);
+  /// Triangulate, marginalize (when enabled), solve, remove outliers, record timing.
+  void update(int64_t t_ns);
+  /// Knots held constant in the solve (the frozen-history baseline overrides this).
+  virtual bool isFrozen(const Knot& /*knot*/) const { return false; }
+  const EstimatorOptions& options() const { return options_; }
 
  private:
   void tryInitialize(int64_t t_ns);
-  void update(int64_t t_ns);
   void triangulateTracks();
   void marginalizeDynamic();
   void renewScaleAnchor();
