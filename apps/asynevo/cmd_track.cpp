@@ -1,13 +1,17 @@
-// 'asynevo track --dataset PATH --out tracks.txt': the frontend alone (DESIGN.md §1). Writes one line
-// per feature measurement, "id t x y" (t in seconds, x y raw pixel coordinates), the
-// rpg_feature_tracking_analysis format; the lines of one feature are written together, in time order,
-// when the feature ends. Frontend statistics go to stdout.
+// 'asynevo track --dataset PATH --out tracks.txt [--eval]': the frontend alone (DESIGN.md §1). Writes
+// one line per feature measurement, "id t x y" (t in seconds, x y raw pixel coordinates), the
+// rpg_feature_tracking_analysis format. The lines of one feature are written together, in time order,
+// and features in increasing id order (= order of creation): a feature is written once it and every
+// older feature have ended. Frontend statistics go to stdout. With --eval on a folder written by
+// 'asynevo simulate', every track is also compared with its exact ground truth
+// (sim/feature_ground_truth.hpp) and the figures are printed.
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <map>
 #include <memory>
+#include <optional>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "asynevo/core/config/config.hpp"
@@ -17,6 +21,7 @@
 #include "asynevo/io/calibration_io.hpp"
 #include "asynevo/io/dataset.hpp"
 #include "asynevo/io/event_reader.hpp"
+#include "asynevo/sim/feature_ground_truth.hpp"
 #include "commands.hpp"
 #include "progress.hpp"
 
@@ -30,12 +35,16 @@ struct TrackOptions {
   std::string format = "auto";
   std::string config;
   std::string calib;
+  bool eval = false;
 };
 
-/// Keeps each active feature's measurements and writes them when the feature ends.
+/// Keeps each feature's measurements and writes them, in id order, once the feature and every older one
+/// have ended (the frontend numbers features 0, 1, 2, ... and ends each exactly once). Memory: the
+/// active features plus the ended ones younger than the oldest active feature.
 class TrackFileSink final : public frontend::MeasurementSink {
  public:
-  explicit TrackFileSink(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "w")) {
+  TrackFileSink(const std::string& path, bool keep_all)
+      : path_(path), file_(std::fopen(path.c_str(), "w")), keep_all_(keep_all) {
     if (!file_) throw InputError(path, "cannot open for writing");
   }
   ~TrackFileSink() override {
@@ -44,18 +53,24 @@ class TrackFileSink final : public frontend::MeasurementSink {
   TrackFileSink(const TrackFileSink&) = delete;
   TrackFileSink& operator=(const TrackFileSink&) = delete;
 
-  void onMeasurement(const TrackMeasurement& m) override { pending_[m.feature_id].push_back(m); }
+  void onMeasurement(const TrackMeasurement& m) override {
+    pending_[m.feature_id].measurements.push_back(m);
+    if (keep_all_) all_.push_back(m);
+  }
   void onFeatureEnd(const frontend::FeatureEnd& end) override {
-    auto it = pending_.find(end.feature_id);
-    if (it == pending_.end()) return;
-    char t[32];
-    for (const TrackMeasurement& m : it->second) {
-      formatNsAsSeconds(m.t_ns, t);
-      fmt::print(file_, "{} {} {:.3f} {:.3f}\n", m.feature_id, t, m.x, m.y);
-      ++lines_;
+    pending_[end.feature_id].ended = true;
+    // Write every ended feature from the oldest not yet written on.
+    for (auto it = pending_.begin(); it != pending_.end() && it->first == next_id_ && it->second.ended;
+         it = pending_.erase(it), ++next_id_) {
+      if (it->second.measurements.empty()) continue;
+      char t[32];
+      for (const TrackMeasurement& m : it->second.measurements) {
+        formatNsAsSeconds(m.t_ns, t);
+        fmt::print(file_, "{} {} {:.3f} {:.3f}\n", m.feature_id, t, m.x, m.y);
+        ++lines_;
+      }
+      ++tracks_;
     }
-    ++tracks_;
-    pending_.erase(it);
   }
   void close() {
     const bool failed = std::ferror(file_) != 0;
@@ -65,11 +80,20 @@ class TrackFileSink final : public frontend::MeasurementSink {
   }
   uint64_t lines() const { return lines_; }
   uint64_t tracks() const { return tracks_; }
+  /// Every measurement (only with keep_all).
+  const std::vector<TrackMeasurement>& all() const { return all_; }
 
  private:
+  struct Pending {
+    std::vector<TrackMeasurement> measurements;
+    bool ended = false;
+  };
   std::string path_;
   std::FILE* file_;
-  std::unordered_map<int64_t, std::vector<TrackMeasurement>> pending_;
+  bool keep_all_;
+  std::map<int64_t, Pending> pending_;
+  int64_t next_id_ = 0;
+  std::vector<TrackMeasurement> all_;
   uint64_t lines_ = 0;
   uint64_t tracks_ = 0;
 };
@@ -77,6 +101,14 @@ class TrackFileSink final : public frontend::MeasurementSink {
 void runTrack(const TrackOptions& options) {
   const Config config = options.config.empty() ? Config() : loadConfig(options.config);
   const DatasetFiles files = resolveDataset(options.dataset);
+  // The ground truth first: a dataset that cannot be evaluated fails before the (long) run.
+  std::optional<sim::FeatureGroundTruth> ground_truth;
+  if (options.eval) {
+    if (!sim::isSimulatedDataset(files.root))
+      throw InputError(options.dataset,
+                       "--eval needs a folder written by 'asynevo simulate' (sim.yaml and groundtruth.txt)");
+    ground_truth.emplace(sim::loadSimulatedGroundTruth(files.root));
+  }
   ReaderOptions reader_options;
   reader_options.format = options.format;
   reader_options.packet_size = config.input.packet_size;
@@ -95,7 +127,7 @@ void runTrack(const TrackOptions& options) {
   if (!calib.empty()) undistortion = readCalibration(calib, width, height).undistortionTable<float>();
 
   frontend::Frontend fe(config.frontend, width, height, std::move(undistortion));
-  TrackFileSink sink(options.out);
+  TrackFileSink sink(options.out, options.eval);
   EventPacket packet;
   Progress progress;
   uint64_t events = 0;
@@ -111,6 +143,9 @@ void runTrack(const TrackOptions& options) {
   sink.close();
   fmt::print("{}", fe.stats().summary());
   fmt::print("wrote             {} lines, {} tracks to {}\n", sink.lines(), sink.tracks(), options.out);
+  if (ground_truth) {
+    fmt::print("{}", sim::evaluateFeatureTracks(sink.all(), *ground_truth).summary());
+  }
 }
 
 }  // namespace
@@ -123,6 +158,9 @@ void addTrackCommand(CLI::App& app) {
   cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt)");
   cmd->add_option("--config", options.config, "configuration YAML (frontend section, sensor size)");
   cmd->add_option("--calib", options.calib, "calibration file (default: the dataset's calib.txt, if any)");
+  cmd->add_flag("--eval", options.eval,
+                "simulated datasets ('asynevo simulate' folders): compare every track with its exact ground "
+                "truth and print the errors");
   cmd->callback([] { runTrack(options); });
 }
 

@@ -1,8 +1,12 @@
 // frontend_eval: runs the frontend on ECD-style rotation slices and reports the rotation-consistency
 // accuracy (rotation_check.hpp), track lifetimes, the fitted angular velocity next to motion.txt (gyro)
-// and groundtruth.txt (mocap, over the whole slice), and the frontend statistics.
+// and groundtruth.txt (mocap, over the whole slice), and the frontend statistics. On simulated data
+// (--sim: simulated in memory; a folder written by 'asynevo simulate') it reports the error of every
+// track against the exact feature ground truth (sim/feature_ground_truth.hpp).
 //
 //   frontend_eval [--yaml 'frontend: {min_dt_ms: 1}'] [--accel] [--tracks FILE] DIR...
+//   frontend_eval [--yaml ...] [--worst N] --sim SCENE:MOTION:SECONDS[:SEED] ...   e.g. --sim shapes:6dof:2
+//   frontend_eval --synthetic
 #include <fmt/format.h>
 
 #include <Eigen/Geometry>
@@ -21,6 +25,8 @@
 #include "asynevo/io/calibration_io.hpp"
 #include "asynevo/io/event_reader.hpp"
 #include "asynevo/io/trajectory_io.hpp"
+#include "asynevo/sim/feature_ground_truth.hpp"
+#include "sim_sequence.hpp"
 #include "synthetic_stream.hpp"
 
 using namespace asynevo;
@@ -86,12 +92,74 @@ void evaluateSynthetic(const Config& config) {
   fmt::print("lifetime s        median {:.4f}  p90 {:.4f}\n", q(lifetimes, 0.5), q(lifetimes, 0.9));
 }
 
+void printAccuracy(const std::vector<TrackMeasurement>& measurements, const sim::FeatureGroundTruth& gt,
+                   int worst) {
+  const sim::FeatureAccuracy r = sim::evaluateFeatureTracks(measurements, gt);
+  fmt::print("{}", r.summary());
+  // Per texture of the anchor planes: median error, bad tracks.
+  std::map<std::string, std::pair<std::vector<double>, std::pair<int, int>>> per_texture;
+  for (const auto& t : r.tracks) {
+    if (!t.anchored || t.errors_px.empty()) continue;
+    const auto& plane = gt.scene().planes[static_cast<std::size_t>(t.plane)];
+    auto& entry = per_texture[plane.texture ? plane.texture->description().substr(0, 24) : plane.name];
+    entry.first.insert(entry.first.end(), t.errors_px.begin(), t.errors_px.end());
+    ++entry.second.first;
+    entry.second.second += t.bad_survival_ns > 20'000'000 ? 1 : 0;
+  }
+  for (auto& [name, entry] : per_texture) {
+    std::sort(entry.first.begin(), entry.first.end());
+    fmt::print("  on {:<26} {:4d} tracks, median {:.3f} px, p90 {:.3f}, bad tracks {}\n", name,
+               entry.second.first, entry.first[entry.first.size() / 2],
+               entry.first[entry.first.size() * 9 / 10], entry.second.second);
+  }
+  if (worst <= 0) return;
+  std::vector<const sim::TrackAccuracy*> order;
+  for (const auto& t : r.tracks)
+    if (t.anchored && !t.errors_px.empty()) order.push_back(&t);
+  std::sort(order.begin(), order.end(), [](const sim::TrackAccuracy* a, const sim::TrackAccuracy* b) {
+    return a->bad_survival_ns != b->bad_survival_ns ? a->bad_survival_ns > b->bad_survival_ns
+                                                    : a->max_error_px > b->max_error_px;
+  });
+  for (int i = 0; i < worst && i < static_cast<int>(order.size()); ++i) {
+    const sim::TrackAccuracy& t = *order[static_cast<std::size_t>(i)];
+    std::string errors;
+    for (double e : t.errors_px) errors += fmt::format(" {:.1f}", e);
+    fmt::print(
+        "  id {:5d} plane {:2d} t {:.4f}..{:.4f} n {:3d} edge {} occl {} bad-survival {:.1f} ms max "
+        "{:.2f}:{}\n",
+        t.id, t.plane, t.first_ns * 1e-9, t.last_ns * 1e-9, t.measurements, t.depth_edge ? 1 : 0, t.occluded,
+        t.bad_survival_ns * 1e-6, t.max_error_px, errors);
+  }
+}
+
+void evaluateSimulated(const Config& config, const std::string& spec, int worst) {
+  // SCENE:MOTION:SECONDS[:SEED]
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  for (std::size_t colon; (colon = spec.find(':', start)) != std::string::npos; start = colon + 1)
+    parts.push_back(spec.substr(start, colon - start));
+  parts.push_back(spec.substr(start));
+  if (parts.size() < 3 || parts.size() > 4)
+    throw std::invalid_argument("--sim takes SCENE:MOTION:SECONDS[:SEED], got " + spec);
+  const uint64_t seed = parts.size() == 4 ? std::stoull(parts[3]) : 1;
+  const bench::SimSequence s = bench::simulateSequence(parts[0], parts[1], std::stod(parts[2]), seed);
+  frontend::Frontend fe(config.frontend, s.camera.width(), s.camera.height(),
+                        s.camera.undistortionTable<float>());
+  frontend::MeasurementCollector out;
+  for (const Event& e : s.events) fe.process(e, out);
+  fe.finish(out);
+  fmt::print("== simulated {} ({:.2f} s, seed {}, {} events)\n{}", s.name, std::stod(parts[2]), seed,
+             s.events.size(), fe.stats().summary());
+  printAccuracy(out.measurements, *s.ground_truth, worst);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   Config config;
   bool accel = false;
   std::string tracks_path;
+  int worst = 0;
   std::vector<std::string> dirs;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -101,6 +169,10 @@ int main(int argc, char** argv) {
       accel = true;
     } else if (a == "--synthetic") {
       dirs.push_back("@synthetic");
+    } else if (a == "--sim" && i + 1 < argc) {
+      dirs.push_back(std::string("@sim:") + argv[++i]);
+    } else if (a == "--worst" && i + 1 < argc) {
+      worst = std::stoi(argv[++i]);
     } else if (a == "--tracks" && i + 1 < argc) {
       tracks_path = argv[++i];
     } else {
@@ -112,6 +184,10 @@ int main(int argc, char** argv) {
       evaluateSynthetic(config);
       continue;
     }
+    if (dir.rfind("@sim:", 0) == 0) {
+      evaluateSimulated(config, dir.substr(5), worst);
+      continue;
+    }
     const std::vector<Event> events = readAllEvents(dir + "/events.txt");
     const CameraModel camera = readEcdCalibration(dir + "/calib.txt");
     frontend::Frontend fe(config.frontend, camera.width(), camera.height(),
@@ -120,6 +196,10 @@ int main(int argc, char** argv) {
     for (const Event& e : events) fe.process(e, out);
     fe.finish(out);
     fmt::print("== {}\n{}", dir, fe.stats().summary());
+    if (sim::isSimulatedDataset(dir)) {
+      printAccuracy(out.measurements, sim::loadSimulatedGroundTruth(dir), worst);
+      continue;
+    }
     if (!tracks_path.empty()) {
       std::ofstream f(tracks_path);
       for (const auto& m : out.measurements)

@@ -54,11 +54,13 @@ FeatureGroundTruth::FeatureGroundTruth(Scene scene, CameraModel camera, std::sha
 
 std::optional<double> FeatureGroundTruth::castRayNormalized(const StampedPose& T_w_c,
                                                             const Eigen::Vector3d& ray_c,
-                                                            Eigen::Vector3d* p_w) const {
+                                                            Eigen::Vector3d* p_w, int* plane_index) const {
   const Eigen::Vector3d d = T_w_c.q_w_c * ray_c;  // world direction; depth Z = s when ray_c.z() = 1
   const Eigen::Vector3d& o = T_w_c.p_w_c;
   double best = std::numeric_limits<double>::infinity();
-  for (const TexturedPlane& plane : scene_.planes) {
+  int best_plane = -1;
+  for (std::size_t i = 0; i < scene_.planes.size(); ++i) {
+    const TexturedPlane& plane = scene_.planes[i];
     const Eigen::Vector3d n = plane.normal();
     const double denom = n.dot(d);
     if (std::fabs(denom) < 1e-12) continue;
@@ -68,23 +70,25 @@ std::optional<double> FeatureGroundTruth::castRayNormalized(const StampedPose& T
     if (std::fabs(q.dot(plane.u_w)) > plane.half_width || std::fabs(q.dot(plane.v_w)) > plane.half_height)
       continue;
     best = s;
+    best_plane = static_cast<int>(i);
   }
   if (!std::isfinite(best)) return std::nullopt;
   if (p_w) *p_w = o + best * d;
+  if (plane_index) *plane_index = best_plane;
   return best * ray_c.z();
 }
 
 std::optional<double> FeatureGroundTruth::castRay(const StampedPose& T_w_c, const Eigen::Vector2d& pixel,
-                                                  Eigen::Vector3d* p_w) const {
+                                                  Eigen::Vector3d* p_w, int* plane) const {
   const std::optional<Eigen::Vector2d> xn = camera_.unproject(pixel);
   if (!xn) return std::nullopt;
-  return castRayNormalized(T_w_c, Eigen::Vector3d(xn->x(), xn->y(), 1.0), p_w);
+  return castRayNormalized(T_w_c, Eigen::Vector3d(xn->x(), xn->y(), 1.0), p_w, plane);
 }
 
 FeatureGroundTruth::Anchor FeatureGroundTruth::anchor(int64_t t_ns, const Eigen::Vector2d& pixel) const {
   Anchor a;
   const StampedPose T_w_c = motion_->pose(t_ns);
-  const std::optional<double> depth = castRay(T_w_c, pixel, &a.p_w);
+  const std::optional<double> depth = castRay(T_w_c, pixel, &a.p_w, &a.plane);
   if (!depth) return a;
   a.valid = true;
   a.depth = *depth;
@@ -196,6 +200,7 @@ FeatureAccuracy evaluateFeatureTracks(const std::vector<TrackMeasurement>& measu
         ground_truth.anchor(t.first_ns, Eigen::Vector2d(ms.front()->x, ms.front()->y));
     t.anchored = a.valid;
     t.depth_edge = a.depth_edge;
+    t.plane = a.plane;
     if (a.valid) {
       for (std::size_t i = 1; i < ms.size(); ++i) {
         const FeatureGroundTruth::Projection p = ground_truth.project(a.p_w, ms[i]->t_ns);

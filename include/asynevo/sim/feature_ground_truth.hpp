@@ -61,6 +61,7 @@ class FeatureGroundTruth {
     bool valid = false;            ///< the pixel's ray hits a plane
     Eigen::Vector3d p_w{0, 0, 0};  ///< the hit, world frame
     double depth = 0;              ///< its depth Z in the camera at the anchor time
+    int plane = -1;                ///< index of the plane hit in scene().planes
     bool depth_edge = false;       ///< a depth discontinuity (or background) within edge_radius_px
   };
   /// The scene point under raw pixel `pixel` at time t_ns.
@@ -77,7 +78,7 @@ class FeatureGroundTruth {
   /// Depth (Z in the camera) of the nearest plane hit along the ray of raw pixel `pixel` at pose
   /// `T_w_c`; nullopt when no plane is hit. `p_w` receives the hit.
   std::optional<double> castRay(const StampedPose& T_w_c, const Eigen::Vector2d& pixel,
-                                Eigen::Vector3d* p_w = nullptr) const;
+                                Eigen::Vector3d* p_w = nullptr, int* plane = nullptr) const;
 
   const Scene& scene() const { return scene_; }
   const CameraModel& camera() const { return camera_; }
@@ -85,7 +86,7 @@ class FeatureGroundTruth {
 
  private:
   std::optional<double> castRayNormalized(const StampedPose& T_w_c, const Eigen::Vector3d& ray_c,
-                                          Eigen::Vector3d* p_w) const;
+                                          Eigen::Vector3d* p_w, int* plane = nullptr) const;
   Scene scene_;
   CameraModel camera_;
   std::shared_ptr<const Motion> motion_;
@@ -105,6 +106,7 @@ struct TrackAccuracy {
   int measurements = 0;
   bool anchored = false;    ///< the first measurement's ray hit a plane
   bool depth_edge = false;  ///< anchored next to a depth discontinuity
+  int plane = -1;           ///< scene plane of the anchor
   int occluded = 0;         ///< later measurements whose ground-truth point was occluded
   double max_error_px = 0;
   double median_error_px = 0;

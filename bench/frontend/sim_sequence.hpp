@@ -1,0 +1,43 @@
+#pragma once
+// A sequence of the project simulator (sim module), kept in memory: events plus exact feature ground
+// truth. Used by frontend_eval --sim, bench_frontend and the simulated-accuracy tests.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "asynevo/core/camera/camera_model.hpp"
+#include "asynevo/core/event.hpp"
+#include "asynevo/sim/event_simulator.hpp"
+#include "asynevo/sim/feature_ground_truth.hpp"
+#include "asynevo/sim/motion.hpp"
+#include "asynevo/sim/scene.hpp"
+
+namespace asynevo::bench {
+
+struct SimSequence {
+  std::string name;
+  CameraModel camera = CameraModel::davis240cEcd();
+  std::shared_ptr<const sim::Motion> motion;
+  std::vector<Event> events;
+  std::unique_ptr<sim::FeatureGroundTruth> ground_truth;
+};
+
+/// Simulates `duration_s` of a built-in scene and motion preset with the default sensor settings
+/// (DAVIS240C with the ECD distortion, as 'asynevo simulate' does).
+inline SimSequence simulateSequence(const std::string& scene, const std::string& motion, double duration_s,
+                                    uint64_t seed = 1) {
+  SimSequence s;
+  s.name = scene + "/" + motion;
+  s.motion = sim::makePresetMotion(motion, duration_s);
+  sim::Scene world = sim::makeBuiltinScene(scene, *s.motion, s.camera, seed);
+  sim::EventSimulator simulator(s.camera, world, sim::EventSimConfig{}, seed);
+  simulator.run(*s.motion, s.motion->beginNs(), s.motion->endNs(), [&](const std::vector<Event>& step) {
+    s.events.insert(s.events.end(), step.begin(), step.end());
+  });
+  s.ground_truth = std::make_unique<sim::FeatureGroundTruth>(std::move(world), s.camera, s.motion);
+  return s;
+}
+
+}  // namespace asynevo::bench
