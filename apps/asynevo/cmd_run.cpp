@@ -1,20 +1,68 @@
-// 'asynevo run': contract fixed by DESIGN.md §1; the implementation has not landed yet.
+// 'asynevo run --dataset PATH [--format auto|ecd|mvsec|aevt] [--calib FILE] [--config FILE]
+//  [--backend window|incremental] [--realtime [--speed X]] --out DIR' (contract: DESIGN.md §1).
+// The work is pipeline::runDataset (docs/pipeline.md); this file parses, shows progress and reports.
+#include <fmt/format.h>
+
 #include <string>
 
+#include "asynevo/core/error.hpp"
+#include "asynevo/core/time.hpp"
+#include "asynevo/pipeline/run.hpp"
 #include "commands.hpp"
+#include "progress.hpp"
 
 namespace asynevo::cli {
 
+namespace {
+
+struct RunCliOptions {
+  pipeline::RunOptions run;
+  std::string backend = "window";
+};
+
+void runRun(RunCliOptions& options) {
+  const auto kind = pipeline::parseBackendKind(options.backend);
+  if (kind == pipeline::BackendKind::kIncremental) throw NotImplemented("run --backend incremental");
+  options.run.backend = *kind;
+  Progress progress;
+  pipeline::RunSummary summary;
+  summary = pipeline::runDataset(options.run, [&](const pipeline::PipelineProgress& p) {
+    progress.update(p.events, p.event_t_ns, p.first_t_ns);
+  });
+  progress.finish();
+  fmt::print("{}", pipeline::runSummaryText(summary));
+  if (!summary.initialized())
+    throw Error(pipeline::initializationFailureMessage(summary) +
+                "\n  partial outputs (tracks.txt, stats.json, config.yaml) are in " + summary.out_dir);
+}
+
+}  // namespace
+
 void addRunCommand(CLI::App& app) {
-  static std::string dataset, format = "auto", calib, config, backend = "window", out;
+  static RunCliOptions options;  // CLI11 binds options to stable addresses; one parse per process
+  pipeline::RunOptions& run = options.run;
   auto* cmd = app.add_subcommand("run", "Estimate the camera trajectory of a dataset");
-  cmd->add_option("--dataset", dataset, "ECD-style folder or event file")->required();
-  cmd->add_option("--format", format, "input format (auto, ecd, mvsec, aevt)");
-  cmd->add_option("--calib", calib, "calibration file (ECD calib.txt or Kalibr YAML)");
-  cmd->add_option("--config", config, "configuration YAML (overrides the defaults)");
-  cmd->add_option("--backend", backend, "estimator (window, incremental)");
-  cmd->add_option("--out", out, "run folder to write")->required();
-  cmd->callback([] { throw NotImplemented("run"); });
+  cmd->add_option("--dataset", run.dataset, "ECD-style folder or event file")->required();
+  cmd->add_option("--format", run.format, "input format (auto, ecd, mvsec, aevt)")->capture_default_str();
+  cmd->add_option("--calib", run.calib, "calibration file (ECD calib.txt or Kalibr YAML; default: the dataset's)");
+  cmd->add_option("--config", run.config_path, "configuration YAML (overrides the defaults; see config/)");
+  cmd->add_option("--backend", options.backend, "estimator (window, incremental)")
+      ->check(CLI::IsMember({"window", "incremental"}))
+      ->capture_default_str();
+  cmd->add_option("--out", run.out, "run folder to write")->required();
+  cmd->add_flag("--realtime", run.real_time,
+                "pace events by their timestamps against the wall clock, cap the solver time and report the "
+                "backend lag (not deterministic)");
+  cmd->add_option("--speed", run.speed, "with --realtime: playback rate (2 = twice real time)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->callback([] {
+    try {
+      runRun(options);
+    } catch (const pipeline::NotImplementedError&) {
+      throw NotImplemented("run --backend incremental");
+    }
+  });
 }
 
 }  // namespace asynevo::cli

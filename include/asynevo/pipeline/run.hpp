@@ -1,0 +1,86 @@
+#pragma once
+// One call from a dataset to a run folder: what 'asynevo run' does (DESIGN.md §1). Resolves the
+// dataset, loads the configuration and the calibration (an error before any processing when there is
+// none), builds the reader, frontend and estimator, runs the two-thread pipeline and writes the run
+// folder (docs/pipeline.md).
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "asynevo/backend/estimator.hpp"
+#include "asynevo/core/config/config.hpp"
+#include "asynevo/core/error.hpp"
+#include "asynevo/frontend/frontend.hpp"
+#include "asynevo/pipeline/pipeline.hpp"
+#include "asynevo/pipeline/run_folder.hpp"
+
+namespace asynevo::pipeline {
+
+/// The estimators 'asynevo run --backend' names.
+enum class BackendKind { kWindow, kIncremental };
+/// "window" or "incremental"; nullopt otherwise.
+std::optional<BackendKind> parseBackendKind(const std::string& name);
+
+/// Thrown for a feature that is not built yet (the CLI maps it to its "not implemented" exit code).
+class NotImplementedError : public Error {
+ public:
+  using Error::Error;
+};
+
+struct RunOptions {
+  std::string dataset;                ///< ECD-style folder or event file
+  std::string format = "auto";
+  std::string calib;                  ///< "" = the dataset's own calibration file
+  std::string config_path;            ///< "" = defaults (or `config` below)
+  std::optional<Config> config;       ///< used instead of config_path when set (the demo)
+  BackendKind backend = BackendKind::kWindow;
+  std::string out;                    ///< run folder
+  bool real_time = false;
+  double speed = 1.0;                 ///< real time: playback rate
+};
+
+struct RunSummary {
+  std::string out_dir;
+  std::string dataset_events;   ///< the event file read
+  std::string calibration;      ///< the calibration file used
+  std::string format;
+  int width = 0, height = 0;
+  Config config;                ///< effective configuration
+  std::string backend_name;
+  PipelineStats pipeline;
+  frontend::FrontendStats frontend;
+  backend::EstimatorStats estimator;
+  UpdateTimeStats update_time;
+  uint64_t knots_written = 0;
+  uint64_t landmarks_written = 0;
+  uint64_t measurements_written = 0;
+  std::optional<uint64_t> groundtruth_poses;  ///< set when stamped_groundtruth.txt was written
+  std::vector<std::string> warnings;
+  double peak_memory_mb = 0;
+
+  bool initialized() const { return estimator.initialized; }
+};
+
+/// Runs a dataset end to end and writes the run folder, also when initialization never succeeded
+/// (then the trajectory files are empty; check RunSummary::initialized()). Throws InputError /
+/// ConfigError / Error for bad input (missing calibration: before any event is read) and
+/// NotImplementedError for the incremental backend until it exists.
+RunSummary runDataset(const RunOptions& options,
+                      const std::function<void(const PipelineProgress&)>& progress = {});
+
+/// "initialization never succeeded: <estimator's last failure> (… counts …)".
+std::string initializationFailureMessage(const RunSummary& summary);
+
+/// A few lines for the terminal: events, features, knots, landmarks, timing, real-time factor.
+std::string runSummaryText(const RunSummary& summary);
+
+/// stats.json text of a run.
+std::string runStatsJson(const RunSummary& summary, const RunOptions& options);
+
+/// Peak resident memory of this process so far (getrusage), in MiB.
+double peakMemoryMb();
+
+}  // namespace asynevo::pipeline

@@ -1,0 +1,274 @@
+#include "asynevo/pipeline/run.hpp"
+
+#include <fmt/format.h>
+#include <sys/resource.h>
+
+#include <cmath>
+#include <memory>
+
+#include "asynevo/backend/sliding_window_estimator.hpp"
+#include "asynevo/backend/triangulation.hpp"
+#include "asynevo/core/error.hpp"
+#include "asynevo/core/time.hpp"
+#include "asynevo/io/calibration_io.hpp"
+#include "asynevo/io/dataset.hpp"
+#include "asynevo/io/event_reader.hpp"
+#include "asynevo/io/groundtruth_reader.hpp"
+
+namespace asynevo::pipeline {
+
+std::optional<BackendKind> parseBackendKind(const std::string& name) {
+  if (name == "window") return BackendKind::kWindow;
+  if (name == "incremental") return BackendKind::kIncremental;
+  return std::nullopt;
+}
+
+double peakMemoryMb() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
+}
+
+RunSummary runDataset(const RunOptions& options, const std::function<void(const PipelineProgress&)>& progress) {
+  if (options.backend == BackendKind::kIncremental)
+    throw NotImplementedError(
+        "'asynevo run --backend incremental' is not implemented yet in this version (the incremental "
+        "baseline has not landed); use --backend window");
+  RunSummary summary;
+  summary.out_dir = options.out;
+
+  // Everything that can be checked before reading events is checked first.
+  Config config = options.config ? *options.config
+                                 : (options.config_path.empty() ? Config() : loadConfig(options.config_path));
+  const DatasetFiles files = resolveDataset(options.dataset);
+  const std::string calib = !options.calib.empty() ? options.calib : files.calibration.value_or("");
+  if (calib.empty())
+    throw InputError(files.root,
+                     "no camera calibration: the dataset folder has no calib.txt or Kalibr camchain .yaml; "
+                     "pass --calib FILE");
+
+  ReaderOptions reader_options;
+  reader_options.format = options.format;
+  reader_options.packet_size = config.input.packet_size;
+  reader_options.max_time_reversal_ns = std::llround(config.input.max_time_reversal_us * 1e3);
+  if (options.config || !options.config_path.empty()) {
+    reader_options.width = config.sensor.width;
+    reader_options.height = config.sensor.height;
+  }
+  auto reader = openEventReader(files.events, reader_options);
+  summary.dataset_events = files.events;
+  summary.format = reader->info().format;
+  summary.width = reader->info().width;
+  summary.height = reader->info().height;
+  config.sensor.width = summary.width;
+  config.sensor.height = summary.height;
+  config.validate();
+  summary.config = config;
+
+  const CameraModel camera = readCalibration(calib, summary.width, summary.height);
+  summary.calibration = calib;
+  if (camera.width() != summary.width || camera.height() != summary.height)
+    throw InputError(calib, fmt::format("calibration is for {}x{} pixels but the events ({}) are {}x{}",
+                                        camera.width(), camera.height(), files.events, summary.width,
+                                        summary.height));
+
+  // Outputs that do not depend on the run come first: a failed run still says how it was configured.
+  RunFolderWriter writer(options.out);
+  writer.writeConfig(config);
+
+  frontend::Frontend fe(config.frontend, summary.width, summary.height, camera.undistortionTable<float>());
+  backend::EstimatorOptions estimator_options;
+  estimator_options.config = config.backend;
+  estimator_options.focal_px = 0.5 * (camera.fx() + camera.fy());
+  estimator_options.real_time = options.real_time;
+  backend::SlidingWindowEstimator estimator(estimator_options);
+  summary.backend_name = estimator.name();
+
+  PipelineOptions pipeline_options;
+  pipeline_options.real_time = options.real_time;
+  pipeline_options.speed = options.speed;
+  Pipeline pipeline(*reader, fe, estimator, writer, pipeline_options);
+  summary.pipeline = pipeline.run(progress);
+  writer.close();
+
+  summary.frontend = fe.stats();
+  summary.estimator = estimator.stats();
+  summary.update_time = writer.updateTimeStats();
+  summary.knots_written = writer.knotsWritten();
+  summary.landmarks_written = writer.landmarksWritten();
+  summary.measurements_written = writer.measurementsWritten();
+
+  if (files.groundtruth) {
+    try {
+      const StampedTrajectory gt = readGroundTruth(*files.groundtruth);
+      StampedTrajectory span;
+      for (const StampedPose& p : gt)
+        if (p.t_ns >= summary.pipeline.first_t_ns && p.t_ns <= summary.pipeline.last_t_ns) span.push_back(p);
+      if (span.empty()) {
+        summary.warnings.push_back(fmt::format("{}: no ground-truth pose within the event time span; "
+                                               "stamped_groundtruth.txt not written",
+                                               *files.groundtruth));
+      } else {
+        writer.writeGroundTruth(span);
+        summary.groundtruth_poses = span.size();
+      }
+    } catch (const InputError& e) {
+      summary.warnings.push_back(std::string("ground truth skipped: ") + e.what());
+    }
+  }
+  summary.peak_memory_mb = peakMemoryMb();
+  writer.writeText("stats.json", runStatsJson(summary, options) + "\n");
+  return summary;
+}
+
+std::string initializationFailureMessage(const RunSummary& s) {
+  const auto& e = s.estimator;
+  return fmt::format(
+      "initialization never succeeded after {} attempt(s): {}\n"
+      "  counts: {} events over {:.3f} s, {} features created, {} measurements sent to the backend, "
+      "at most {} features active at once\n"
+      "  a textured scene and enough camera motion (parallax) are needed; see docs/pipeline.md",
+      e.init_attempts, e.init_last_failure.empty() ? "no attempt was possible (too few measurements)" : e.init_last_failure,
+      s.pipeline.events, s.pipeline.spanSeconds(), s.frontend.features_created, e.measurements_received,
+      s.frontend.max_active_features);
+}
+
+std::string runSummaryText(const RunSummary& s) {
+  std::string t;
+  const auto& p = s.pipeline;
+  const auto& e = s.estimator;
+  t += fmt::format("events          {} over {:.3f} s ({}, {}x{})\n", p.events, p.spanSeconds(), s.format, s.width,
+                   s.height);
+  t += fmt::format("frontend        {} features, {} measurements, {:.1f} active on average\n",
+                   s.frontend.features_created, s.frontend.measurements, s.frontend.meanActiveFeatures());
+  t += fmt::format("backend         {}: {} knots written, {} landmarks, {} marginalizations ({} knots), "
+                   "window <= {} knots\n",
+                   s.backend_name, s.knots_written, s.landmarks_written, e.marginalizations, e.knots_marginalized,
+                   e.max_window_knots);
+  if (e.initialized)
+    t += fmt::format("initialized     at t = {:.3f} s after {} attempt(s)\n", nsToSeconds(e.initialized_at_ns),
+                     e.init_attempts);
+  t += fmt::format("update time     median {:.2f} ms, p95 {:.2f} ms, max {:.2f} ms over {} updates\n",
+                   s.update_time.median_ms, s.update_time.p95_ms, s.update_time.max_ms, s.update_time.updates);
+  t += fmt::format("wall time       {:.2f} s, real-time factor {:.2f} ({}), peak memory {:.0f} MiB\n",
+                   p.wall_seconds, p.realTimeFactor(), p.real_time ? "real-time mode" : "offline", s.peak_memory_mb);
+  if (p.real_time)
+    t += fmt::format("backend lag     max {:.3f} s, mean {:.3f} s\n", p.max_lag_ns * 1e-9, p.mean_lag_ns * 1e-9);
+  for (const std::string& w : s.warnings) t += "warning: " + w + "\n";
+  t += fmt::format("run folder      {}\n", s.out_dir);
+  return t;
+}
+
+std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
+  const auto& p = s.pipeline;
+  const auto& e = s.estimator;
+  const auto& f = s.frontend;
+
+  JsonObject input;
+  input.add("dataset", options.dataset)
+      .add("events_file", s.dataset_events)
+      .add("format", s.format)
+      .add("width", s.width)
+      .add("height", s.height)
+      .add("calibration", s.calibration)
+      .add("first_event_s", nsToSeconds(p.first_t_ns))
+      .add("last_event_s", nsToSeconds(p.last_t_ns))
+      .add("groundtruth_poses", static_cast<uint64_t>(s.groundtruth_poses.value_or(0)));
+
+  JsonObject frontend;
+  frontend.add("events", f.events)
+      .add("dropped_out_of_sensor", f.dropped_out_of_sensor)
+      .add("dropped_time_reversal", f.dropped_time_reversal)
+      .add("clamped_time", f.clamped_time)
+      .add("filter_accepted", f.filter_accepted)
+      .add("detector_runs", f.detector_runs)
+      .add("candidates", f.candidates)
+      .add("corners", f.corners)
+      .add("tracker_updates", f.tracker_updates)
+      .add("state_changes", f.state_changes)
+      .add("measurements", f.measurements)
+      .add("measurements_without_undistortion", f.measurements_without_undistortion)
+      .add("features_created", f.features_created)
+      .add("max_active_features", f.max_active_features)
+      .add("mean_active_features", f.meanActiveFeatures());
+  JsonObject dropped;
+  for (int i = 0; i < frontend::kDropReasonCount; ++i)
+    dropped.add(frontend::dropReasonName(static_cast<frontend::DropReason>(i)),
+                f.features_dropped[static_cast<std::size_t>(i)]);
+  frontend.addObject("features_dropped", dropped);
+
+  JsonObject estimator;
+  estimator.add("name", s.backend_name)
+      .add("initialized", e.initialized)
+      .add("initialized_at_s", e.initialized ? nsToSeconds(e.initialized_at_ns) : 0.0)
+      .add("init_attempts", e.init_attempts)
+      .add("init_last_failure", e.init_last_failure)
+      .add("measurements_received", e.measurements_received)
+      .add("measurements_before_window", e.measurements_before_window)
+      .add("measurements_out_of_order", e.measurements_out_of_order)
+      .add("knots", e.knots)
+      .add("updates", e.updates)
+      .add("landmarks_created", e.landmarks_created);
+  JsonObject tri;
+  for (int i = 0; i < backend::kTriangulationFailureCount; ++i)
+    tri.add(backend::triangulationFailureName(static_cast<backend::TriangulationFailure>(i)),
+            e.triangulation_failures[static_cast<std::size_t>(i)]);
+  estimator.addObject("triangulation_failures", tri)
+      .add("marginalizations", e.marginalizations)
+      .add("knots_marginalized", e.knots_marginalized)
+      .add("landmarks_marginalized", e.landmarks_marginalized)
+      .add("forced_marginalizations", e.forced_marginalizations)
+      .add("observations_dropped_forced", e.observations_dropped_forced)
+      .add("observations_dropped_untriangulated", e.observations_dropped_untriangulated)
+      .add("outliers_removed", e.outliers_removed)
+      .add("landmarks_lost", e.landmarks_lost)
+      .add("max_window_knots", e.max_window_knots)
+      .add("last_prior_rank", e.last_prior_rank);
+
+  JsonObject update;
+  update.add("updates", s.update_time.updates)
+      .add("median_ms", s.update_time.median_ms)
+      .add("p95_ms", s.update_time.p95_ms)
+      .add("max_ms", s.update_time.max_ms)
+      .add("mean_ms", s.update_time.mean_ms);
+
+  JsonObject pipe;
+  pipe.add("mode", p.real_time ? "real-time" : "offline")
+      .add("speed", options.speed)
+      .add("markers", p.markers)
+      .add("packets", p.packets)
+      .add("feature_ends", p.feature_ends)
+      .add("queue_capacity_chunks", static_cast<uint64_t>(p.queue_capacity))
+      .add("queue_high_water_chunks", static_cast<uint64_t>(p.queue_high_water))
+      .add("queue_push_waits", p.queue_push_waits)
+      .add("queue_pop_waits", p.queue_pop_waits)
+      .add("frontend_thread_s", p.frontend_seconds)
+      .add("backend_busy_s", p.backend_busy_seconds)
+      .add("backend_lag_max_s", p.max_lag_ns * 1e-9)
+      .add("backend_lag_mean_s", p.mean_lag_ns * 1e-9)
+      .add("pacing_max_behind_s", p.max_pacing_behind_ns * 1e-9);
+
+  JsonObject root;
+  root.add("asynevo_version", "0.1.0")
+      .add("backend", s.backend_name)
+      .add("config_digest", configDigest(s.config))
+      .add("initialized", e.initialized)
+      .add("events", p.events)
+      .add("event_time_span_s", p.spanSeconds())
+      .add("features", f.features_created)
+      .add("measurements", s.measurements_written)
+      .add("knots", s.knots_written)
+      .add("landmarks", s.landmarks_written)
+      .add("marginalizations", e.marginalizations)
+      .add("wall_time_s", p.wall_seconds)
+      .add("real_time_factor", p.realTimeFactor())
+      .add("peak_memory_mb", s.peak_memory_mb)
+      .addObject("input", input)
+      .addObject("pipeline", pipe)
+      .addObject("update_time", update)
+      .addObject("frontend", frontend)
+      .addObject("estimator", estimator);
+  return root.str();
+}
+
+}  // namespace asynevo::pipeline
