@@ -15,6 +15,7 @@
 #include "asynevo/frontend/sae.hpp"
 #include "asynevo/io/calibration_io.hpp"
 #include "asynevo/io/event_reader.hpp"
+#include "sim_sequence.hpp"
 #include "synthetic_stream.hpp"
 
 using namespace asynevo;
@@ -39,13 +40,23 @@ const std::vector<Event>& synthetic() {
   return events;
 }
 
+// Simulated sequences (project simulator, DAVIS240C with the ECD distortion): 2 s of the 6dof preset.
+const std::vector<Event>& simulated(const std::string& scene) {
+  static std::map<std::string, std::vector<Event>> cache;
+  auto it = cache.find(scene);
+  if (it == cache.end()) it = cache.emplace(scene, bench::simulateSequence(scene, "6dof", 2.0).events).first;
+  return it->second;
+}
+
 const std::vector<Event>& stream(int index) {
   static const char* names[] = {"shapes_rotation", "poster_rotation", "boxes_rotation", "dynamic_rotation"};
+  if (index == 5) return simulated("shapes");
+  if (index == 6) return simulated("boxes");
   return index < 4 ? slice(names[index]) : synthetic();
 }
 const char* streamName(int index) {
   static const char* names[] = {"shapes_rotation", "poster_rotation", "boxes_rotation", "dynamic_rotation",
-                                "synthetic"};
+                                "synthetic",       "sim shapes/6dof", "sim boxes/6dof"};
   return names[index];
 }
 
@@ -189,11 +200,11 @@ BENCHMARK(BM_SaeAndFaHarris)->DenseRange(0, 4)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_HasteDifferenceStar)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_HasteCorrelationStar)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FrontendDifferenceStar)
-    ->ArgsProduct({{0, 1, 2, 3, 4}, {0}})
+    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6}, {0}})
     ->Args({4, 100})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrontendCorrelationStar)
-    ->ArgsProduct({{0, 1, 2, 3, 4}, {0}})
+    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6}, {0}})
     ->Args({4, 100})
     ->Unit(benchmark::kMillisecond);
 

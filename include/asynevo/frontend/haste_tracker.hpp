@@ -34,7 +34,7 @@ enum class TrackerResult : uint8_t {
 enum class HasteVariant : uint8_t { kDifferenceStar, kCorrelationStar };
 
 struct HasteParams {
-  HasteVariant variant = HasteVariant::kDifferenceStar;
+  HasteVariant variant = HasteVariant::kCorrelationStar;
   double hysteresis = 0.05;      ///< (ref) switch threshold on the normalised score gain
   double template_update = 0.1;  ///< (ref) alpha; 0 freezes the template after initialization
 };
