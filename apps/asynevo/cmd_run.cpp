@@ -22,7 +22,7 @@ struct RunCliOptions {
 
 void runRun(RunCliOptions& options) {
   const auto kind = pipeline::parseBackendKind(options.backend);
-  if (kind == pipeline::BackendKind::kIncremental) throw NotImplemented("run --backend incremental");
+  if (!kind) throw Error("unknown backend '" + options.backend + "' (window, incremental)");
   options.run.backend = *kind;
   Progress progress;
   pipeline::RunSummary summary;
@@ -46,7 +46,7 @@ void addRunCommand(CLI::App& app) {
   cmd->add_option("--format", run.format, "input format (auto, ecd, mvsec, aevt)")->capture_default_str();
   cmd->add_option("--calib", run.calib, "calibration file (ECD calib.txt or Kalibr YAML; default: the dataset's)");
   cmd->add_option("--config", run.config_path, "configuration YAML (overrides the defaults; see config/)");
-  cmd->add_option("--backend", options.backend, "estimator (window, incremental)")
+  cmd->add_option("--backend", options.backend, "estimator: window (AsynEVO) or incremental (full-history smoother baseline)")
       ->check(CLI::IsMember({"window", "incremental"}))
       ->capture_default_str();
   cmd->add_option("--out", run.out, "run folder to write")->required();
@@ -56,13 +56,7 @@ void addRunCommand(CLI::App& app) {
   cmd->add_option("--speed", run.speed, "with --realtime: playback rate (2 = twice real time)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  cmd->callback([] {
-    try {
-      runRun(options);
-    } catch (const pipeline::NotImplementedError&) {
-      throw NotImplemented("run --backend incremental");
-    }
-  });
+  cmd->callback([] { runRun(options); });
 }
 
 }  // namespace asynevo::cli

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 
+#include "asynevo/backend/incremental_estimator.hpp"
 #include "asynevo/backend/sliding_window_estimator.hpp"
 #include "asynevo/backend/triangulation.hpp"
 #include "asynevo/core/error.hpp"
@@ -30,10 +31,6 @@ double peakMemoryMb() {
 }
 
 RunSummary runDataset(const RunOptions& options, const std::function<void(const PipelineProgress&)>& progress) {
-  if (options.backend == BackendKind::kIncremental)
-    throw NotImplementedError(
-        "'asynevo run --backend incremental' is not implemented yet in this version (the incremental "
-        "baseline has not landed); use --backend window");
   RunSummary summary;
   summary.out_dir = options.out;
 
@@ -81,7 +78,12 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
   estimator_options.config = config.backend;
   estimator_options.focal_px = 0.5 * (camera.fx() + camera.fy());
   estimator_options.real_time = options.real_time;
-  backend::SlidingWindowEstimator estimator(estimator_options);
+  std::unique_ptr<backend::Estimator> estimator_ptr;
+  if (options.backend == BackendKind::kIncremental)  // the full-history smoother baseline (docs/backend.md)
+    estimator_ptr = std::make_unique<backend::IncrementalEstimator>(estimator_options, backend::IncrementalOptions{});
+  else
+    estimator_ptr = std::make_unique<backend::SlidingWindowEstimator>(estimator_options);
+  backend::Estimator& estimator = *estimator_ptr;
   summary.backend_name = estimator.name();
 
   PipelineOptions pipeline_options;

@@ -19,16 +19,11 @@
 
 namespace asynevo::pipeline {
 
-/// The estimators 'asynevo run --backend' names.
+/// The estimators 'asynevo run --backend' names: AsynEVO's sliding window, or the incremental baseline
+/// (a full-history Ceres smoother standing in for iSAM2, backend::IncrementalEstimator).
 enum class BackendKind { kWindow, kIncremental };
 /// "window" or "incremental"; nullopt otherwise.
 std::optional<BackendKind> parseBackendKind(const std::string& name);
-
-/// Thrown for a feature that is not built yet (the CLI maps it to its "not implemented" exit code).
-class NotImplementedError : public Error {
- public:
-  using Error::Error;
-};
 
 struct RunOptions {
   std::string dataset;                ///< ECD-style folder or event file
@@ -66,8 +61,7 @@ struct RunSummary {
 
 /// Runs a dataset end to end and writes the run folder, also when initialization never succeeded
 /// (then the trajectory files are empty; check RunSummary::initialized()). Throws InputError /
-/// ConfigError / Error for bad input (missing calibration: before any event is read) and
-/// NotImplementedError for the incremental backend until it exists.
+/// ConfigError / Error for bad input (missing calibration: before any event is read).
 RunSummary runDataset(const RunOptions& options,
                       const std::function<void(const PipelineProgress&)>& progress = {});
 
