@@ -44,9 +44,11 @@ void addRunCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("run", "Estimate the camera trajectory of a dataset");
   cmd->add_option("--dataset", run.dataset, "ECD-style folder or event file")->required();
   cmd->add_option("--format", run.format, "input format (auto, ecd, mvsec, aevt)")->capture_default_str();
-  cmd->add_option("--calib", run.calib, "calibration file (ECD calib.txt or Kalibr YAML; default: the dataset's)");
+  cmd->add_option("--calib", run.calib,
+                  "calibration file (ECD calib.txt or Kalibr YAML; default: the dataset's)");
   cmd->add_option("--config", run.config_path, "configuration YAML (overrides the defaults; see config/)");
-  cmd->add_option("--backend", options.backend, "estimator: window (AsynEVO) or incremental (full-history smoother baseline)")
+  cmd->add_option("--backend", options.backend,
+                  "estimator: window (AsynEVO) or incremental (full-history smoother baseline)")
       ->check(CLI::IsMember({"window", "incremental"}))
       ->capture_default_str();
   cmd->add_option("--out", run.out, "run folder to write")->required();

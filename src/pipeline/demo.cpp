@@ -28,7 +28,8 @@ DemoResult runDemo(const DemoOptions& options,
   spec.seed = options.seed;
   const auto sim_start = std::chrono::steady_clock::now();
   result.simulation = sim::simulateToFolder(spec, result.sequence_dir, simulation_progress);
-  result.simulation_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - sim_start).count();
+  result.simulation_wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - sim_start).count();
 
   RunOptions run;
   run.dataset = result.sequence_dir;
@@ -41,7 +42,8 @@ DemoResult runDemo(const DemoOptions& options,
   }
 
   const fs::path dir(result.run_dir);
-  const std::string gt = (dir / "stamped_groundtruth.txt").string(), est = (dir / "stamped_traj_estimate.txt").string();
+  const std::string gt = (dir / "stamped_groundtruth.txt").string(),
+                    est = (dir / "stamped_traj_estimate.txt").string();
   try {
     result.evaluation = eval::evaluateFiles(gt, est, eval::EvalOptions{});
     const eval::TimingStats timing = eval::readTimingStats((dir / "timing.csv").string());
@@ -63,8 +65,9 @@ DemoResult runDemo(const DemoOptions& options,
 std::string demoReportText(const DemoResult& r) {
   std::string t;
   const auto& s = r.simulation;
-  t += fmt::format("sequence        {} | {}, {:.1f} s, {} events (simulated in {:.1f} s)\n", s.scene_description,
-                   s.motion_description, durationSeconds(s.begin_ns, s.end_ns), s.stats.events, r.simulation_wall_s);
+  t += fmt::format("sequence        {} | {}, {:.1f} s, {} events (simulated in {:.1f} s)\n",
+                   s.scene_description, s.motion_description, durationSeconds(s.begin_ns, s.end_ns),
+                   s.stats.events, r.simulation_wall_s);
   t += runSummaryText(r.run);
   if (r.evaluation) {
     const eval::EvalResult& e = *r.evaluation;
@@ -75,8 +78,9 @@ std::string demoReportText(const DemoResult& r) {
                      e.ate.trans.rmse, path > 0 ? 100.0 * e.ate.trans.rmse / path : 0.0, e.ate.rot.rmse);
     for (const eval::RelativeErrors& rel : e.relative) {
       if (rel.too_few) continue;
-      t += fmt::format("  RTE {:5.2f} m   mean translation error {:.2f} %, rotation {:.2f} deg ({} samples)\n",
-                       rel.length_m, rel.trans_perc_stats.mean, rel.rot.mean, rel.trans_m.size());
+      t +=
+          fmt::format("  RTE {:5.2f} m   mean translation error {:.2f} %, rotation {:.2f} deg ({} samples)\n",
+                      rel.length_m, rel.trans_perc_stats.mean, rel.rot.mean, rel.trans_m.size());
     }
   } else {
     t += "accuracy        not evaluated: " + r.evaluation_error + "\n";

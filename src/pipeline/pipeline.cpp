@@ -75,7 +75,9 @@ class QueueSink final : public frontend::MeasurementSink {
 
 }  // namespace
 
-double PipelineStats::spanSeconds() const { return events > 0 ? durationSeconds(first_t_ns, last_t_ns) : 0.0; }
+double PipelineStats::spanSeconds() const {
+  return events > 0 ? durationSeconds(first_t_ns, last_t_ns) : 0.0;
+}
 
 double PipelineStats::realTimeFactor() const {
   const double span = spanSeconds();
@@ -102,7 +104,8 @@ Pipeline::Pipeline(EventReader& reader, frontend::Frontend& frontend, backend::E
                    PipelineOutput& output, const PipelineOptions& options)
     : reader_(reader), frontend_(frontend), estimator_(estimator), output_(output), options_(options) {
   if (options_.queue_capacity == 0) options_.queue_capacity = options_.real_time ? 60000 : 1024;
-  if (options_.max_chunk_items == 0) throw std::invalid_argument("Pipeline: max_chunk_items must be positive");
+  if (options_.max_chunk_items == 0)
+    throw std::invalid_argument("Pipeline: max_chunk_items must be positive");
   if (!(options_.speed > 0)) throw std::invalid_argument("Pipeline: speed must be positive");
 }
 

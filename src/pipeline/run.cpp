@@ -30,7 +30,8 @@ double peakMemoryMb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
 }
 
-RunSummary runDataset(const RunOptions& options, const std::function<void(const PipelineProgress&)>& progress) {
+RunSummary runDataset(const RunOptions& options,
+                      const std::function<void(const PipelineProgress&)>& progress) {
   RunSummary summary;
   summary.out_dir = options.out;
 
@@ -65,9 +66,9 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
   const CameraModel camera = readCalibration(calib, summary.width, summary.height);
   summary.calibration = calib;
   if (camera.width() != summary.width || camera.height() != summary.height)
-    throw InputError(calib, fmt::format("calibration is for {}x{} pixels but the events ({}) are {}x{}",
-                                        camera.width(), camera.height(), files.events, summary.width,
-                                        summary.height));
+    throw InputError(
+        calib, fmt::format("calibration is for {}x{} pixels but the events ({}) are {}x{}", camera.width(),
+                           camera.height(), files.events, summary.width, summary.height));
 
   // Outputs that do not depend on the run come first: a failed run still says how it was configured.
   RunFolderWriter writer(options.out);
@@ -80,7 +81,8 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
   estimator_options.real_time = options.real_time;
   std::unique_ptr<backend::Estimator> estimator_ptr;
   if (options.backend == BackendKind::kIncremental)  // the full-history smoother baseline (docs/backend.md)
-    estimator_ptr = std::make_unique<backend::IncrementalEstimator>(estimator_options, backend::IncrementalOptions{});
+    estimator_ptr =
+        std::make_unique<backend::IncrementalEstimator>(estimator_options, backend::IncrementalOptions{});
   else
     estimator_ptr = std::make_unique<backend::SlidingWindowEstimator>(estimator_options);
   backend::Estimator& estimator = *estimator_ptr;
@@ -107,9 +109,10 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
       for (const StampedPose& p : gt)
         if (p.t_ns >= summary.pipeline.first_t_ns && p.t_ns <= summary.pipeline.last_t_ns) span.push_back(p);
       if (span.empty()) {
-        summary.warnings.push_back(fmt::format("{}: no ground-truth pose within the event time span; "
-                                               "stamped_groundtruth.txt not written",
-                                               *files.groundtruth));
+        summary.warnings.push_back(
+            fmt::format("{}: no ground-truth pose within the event time span; "
+                        "stamped_groundtruth.txt not written",
+                        *files.groundtruth));
       } else {
         writer.writeGroundTruth(span);
         summary.groundtruth_poses = span.size();
@@ -130,7 +133,8 @@ std::string initializationFailureMessage(const RunSummary& s) {
       "  counts: {} events over {:.3f} s, {} features created, {} measurements sent to the backend, "
       "at most {} features active at once\n"
       "  a textured scene and enough camera motion (parallax) are needed; see docs/pipeline.md",
-      e.init_attempts, e.init_last_failure.empty() ? "no attempt was possible (too few measurements)" : e.init_last_failure,
+      e.init_attempts,
+      e.init_last_failure.empty() ? "no attempt was possible (too few measurements)" : e.init_last_failure,
       s.pipeline.events, s.pipeline.spanSeconds(), s.frontend.features_created, e.measurements_received,
       s.frontend.max_active_features);
 }
@@ -139,23 +143,27 @@ std::string runSummaryText(const RunSummary& s) {
   std::string t;
   const auto& p = s.pipeline;
   const auto& e = s.estimator;
-  t += fmt::format("events          {} over {:.3f} s ({}, {}x{})\n", p.events, p.spanSeconds(), s.format, s.width,
-                   s.height);
+  t += fmt::format("events          {} over {:.3f} s ({}, {}x{})\n", p.events, p.spanSeconds(), s.format,
+                   s.width, s.height);
   t += fmt::format("frontend        {} features, {} measurements, {:.1f} active on average\n",
                    s.frontend.features_created, s.frontend.measurements, s.frontend.meanActiveFeatures());
-  t += fmt::format("backend         {}: {} knots written, {} landmarks, {} marginalizations ({} knots), "
-                   "window <= {} knots\n",
-                   s.backend_name, s.knots_written, s.landmarks_written, e.marginalizations, e.knots_marginalized,
-                   e.max_window_knots);
+  t += fmt::format(
+      "backend         {}: {} knots written, {} landmarks, {} marginalizations ({} knots), "
+      "window <= {} knots\n",
+      s.backend_name, s.knots_written, s.landmarks_written, e.marginalizations, e.knots_marginalized,
+      e.max_window_knots);
   if (e.initialized)
-    t += fmt::format("initialized     at t = {:.3f} s after {} attempt(s)\n", nsToSeconds(e.initialized_at_ns),
-                     e.init_attempts);
-  t += fmt::format("update time     median {:.2f} ms, p95 {:.2f} ms, max {:.2f} ms over {} updates\n",
-                   s.update_time.median_ms, s.update_time.p95_ms, s.update_time.max_ms, s.update_time.updates);
+    t += fmt::format("initialized     at t = {:.3f} s after {} attempt(s)\n",
+                     nsToSeconds(e.initialized_at_ns), e.init_attempts);
+  t +=
+      fmt::format("update time     median {:.2f} ms, p95 {:.2f} ms, max {:.2f} ms over {} updates\n",
+                  s.update_time.median_ms, s.update_time.p95_ms, s.update_time.max_ms, s.update_time.updates);
   t += fmt::format("wall time       {:.2f} s, real-time factor {:.2f} ({}), peak memory {:.0f} MiB\n",
-                   p.wall_seconds, p.realTimeFactor(), p.real_time ? "real-time mode" : "offline", s.peak_memory_mb);
+                   p.wall_seconds, p.realTimeFactor(), p.real_time ? "real-time mode" : "offline",
+                   s.peak_memory_mb);
   if (p.real_time)
-    t += fmt::format("backend lag     max {:.3f} s, mean {:.3f} s\n", p.max_lag_ns * 1e-9, p.mean_lag_ns * 1e-9);
+    t += fmt::format("backend lag     max {:.3f} s, mean {:.3f} s\n", p.max_lag_ns * 1e-9,
+                     p.mean_lag_ns * 1e-9);
   for (const std::string& w : s.warnings) t += "warning: " + w + "\n";
   t += fmt::format("run folder      {}\n", s.out_dir);
   return t;
@@ -224,6 +232,7 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("observations_dropped_untriangulated", e.observations_dropped_untriangulated)
       .add("outliers_removed", e.outliers_removed)
       .add("landmarks_lost", e.landmarks_lost)
+      .add("scale_anchors", e.scale_anchors)
       .add("max_window_knots", e.max_window_knots)
       .add("last_prior_rank", e.last_prior_rank);
 

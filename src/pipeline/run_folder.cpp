@@ -39,7 +39,8 @@ RunFolderWriter::RunFolderWriter(const std::string& dir) : dir_(dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
   if (ec || !std::filesystem::is_directory(dir_))
-    throw Error(fmt::format("{}: cannot create the output folder ({})", dir_, ec ? ec.message() : "not a folder"));
+    throw Error(
+        fmt::format("{}: cannot create the output folder ({})", dir_, ec ? ec.message() : "not a folder"));
   traj_ = open("stamped_traj_estimate.txt");
   velocities_ = open("velocities.txt");
   tracks_ = open("tracks.txt");
@@ -132,7 +133,8 @@ void RunFolderWriter::writeText(const std::string& name, const std::string& text
 }
 
 void RunFolderWriter::writeConfig(const Config& config) const {
-  writeText("config.yaml", "# AsynEVO effective configuration of this run (every value).\n" + configToYaml(config));
+  writeText("config.yaml",
+            "# AsynEVO effective configuration of this run (every value).\n" + configToYaml(config));
 }
 
 void RunFolderWriter::writeGroundTruth(const StampedTrajectory& groundtruth) const {
@@ -160,11 +162,21 @@ std::string JsonObject::quote(const std::string& text) {
   std::string out = "\"";
   for (const char c : text) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
       default:
         if (static_cast<unsigned char>(c) < 0x20)
           out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(c)));

@@ -39,8 +39,8 @@ TEST(RunCommand, AMissingCalibFileIsNamed) {
 TEST(RunCommand, IncrementalBackendRunsTheFullHistorySmootherBaseline) {
   // The 0.1 s slice is too short to initialize (exit 1), but the run folder names the baseline.
   const TempDir dir;
-  const auto r = runAsynevo("run --dataset " + dataPath("ecd/shapes_rotation") + " --backend incremental --out " +
-                            dir.file("out"));
+  const auto r = runAsynevo("run --dataset " + dataPath("ecd/shapes_rotation") +
+                            " --backend incremental --out " + dir.file("out"));
   EXPECT_NE(r.exit_code, 3) << r.output;
   EXPECT_NE(r.output.find("full-history-smoother"), std::string::npos) << r.output;
   std::ifstream stats(dir.file("out/stats.json"));
@@ -67,11 +67,12 @@ TEST(RunCommand, NoTextureEndsWithTheInitializationMessageANonZeroExitAndPartial
   int64_t t_us = 1000;
   for (int i = 0; i < 20000; ++i) {
     t_us += 100;
-    events << t_us / 1000000 << '.' << std::to_string(1000000 + t_us % 1000000).substr(1) << ' ' << x(rng) << ' '
-           << y(rng) << ' ' << p(rng) << '\n';
+    events << t_us / 1000000 << '.' << std::to_string(1000000 + t_us % 1000000).substr(1) << ' ' << x(rng)
+           << ' ' << y(rng) << ' ' << p(rng) << '\n';
   }
   dir.write("noise/events.txt", events.str());
-  dir.write("noise/calib.txt", "199.092366 198.82882 132.192071 110.712283 -0.368436 0.150947 -0.000296 -0.000759 0\n");
+  dir.write("noise/calib.txt",
+            "199.092366 198.82882 132.192071 110.712283 -0.368436 0.150947 -0.000296 -0.000759 0\n");
   const auto r = runAsynevo("run --dataset " + dir.file("noise") + " --out " + dir.file("out"));
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("initialization never succeeded"), std::string::npos) << r.output;
@@ -90,8 +91,8 @@ TEST(RunCommand, ARealSliceRunsAndWritesEveryRunFolderFile) {
   const TempDir dir;
   const auto r = runAsynevo("run --dataset " + dataPath("ecd/shapes_rotation") + " --out " + dir.file("out"));
   EXPECT_NE(r.output.find("events          20000"), std::string::npos) << r.output;
-  for (const char* f : {"stamped_traj_estimate.txt", "velocities.txt", "tracks.txt", "landmarks.ply", "timing.csv",
-                        "stats.json", "config.yaml", "stamped_groundtruth.txt"})
+  for (const char* f : {"stamped_traj_estimate.txt", "velocities.txt", "tracks.txt", "landmarks.ply",
+                        "timing.csv", "stats.json", "config.yaml", "stamped_groundtruth.txt"})
     EXPECT_TRUE(std::filesystem::exists(dir.file(std::string("out/") + f))) << f;
   std::ifstream gt(dir.file("out/stamped_groundtruth.txt"));
   std::string line;

@@ -19,8 +19,10 @@ std::set<std::string> keysOf(const std::string& yaml) {
   const std::regex section_re(R"(^([a-z_0-9]+):\s*$)"), key_re(R"(^  ([a-z_0-9]+):\s*\S.*$)");
   std::smatch m;
   while (std::getline(in, line)) {
-    if (std::regex_match(line, m, section_re)) section = m[1];
-    else if (std::regex_match(line, m, key_re)) keys.insert(section + "." + m[1].str());
+    if (std::regex_match(line, m, section_re))
+      section = m[1];
+    else if (std::regex_match(line, m, key_re))
+      keys.insert(section + "." + m[1].str());
   }
   return keys;
 }

@@ -55,7 +55,8 @@ class VectorReader final : public EventReader {
     info_.height = 100;
   }
   bool read(EventPacket& packet) override {
-    if (fail_after_ >= 0 && packets_ == fail_after_) throw InputError::atRecord("memory", next_, "bad record");
+    if (fail_after_ >= 0 && packets_ == fail_after_)
+      throw InputError::atRecord("memory", next_, "bad record");
     packet.events.clear();
     packet.first_index = next_;
     while (next_ < events_.size() && packet.events.size() < static_cast<std::size_t>(packet_size_))
@@ -125,7 +126,8 @@ class CountingOutput final : public PipelineOutput {
 
 std::vector<Event> squareEvents() {
   using frontend::testing::MovingSquare;
-  const std::vector<MovingSquare> squares = {{20, 20, 18, 40, 10}, {70, 50, 14, -30, 20}, {40, 60, 12, 20, -25}};
+  const std::vector<MovingSquare> squares = {
+      {20, 20, 18, 40, 10}, {70, 50, 14, -30, 20}, {40, 60, 12, 20, -25}};
   return frontend::testing::simulateSquares(squares, 120, 100, 0.4);
 }
 
@@ -158,11 +160,11 @@ TEST(Pipeline, TheBackendCallSequenceDoesNotDependOnPacketSizeQueueCapacityOrChu
   const Outcome reference = runOnce(events, 65536, 1024, 1024);
   ASSERT_GT(reference.stats.measurements, 50u) << "the synthetic squares must produce tracks";
   ASSERT_GT(reference.stats.markers, 100u);
-  for (const auto& [packet, capacity, chunk] : {std::tuple<int, std::size_t, std::size_t>{1, 1, 1},
-                                               {97, 2, 7},
-                                               {5000, 3, 100000}}) {
+  for (const auto& [packet, capacity, chunk] :
+       {std::tuple<int, std::size_t, std::size_t>{1, 1, 1}, {97, 2, 7}, {5000, 3, 100000}}) {
     const Outcome other = runOnce(events, packet, capacity, chunk);
-    EXPECT_EQ(other.log, reference.log) << "packet " << packet << " capacity " << capacity << " chunk " << chunk;
+    EXPECT_EQ(other.log, reference.log)
+        << "packet " << packet << " capacity " << capacity << " chunk " << chunk;
   }
 }
 

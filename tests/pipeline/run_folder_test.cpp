@@ -65,8 +65,9 @@ TEST(RunFolderWriter, WritesTrajectoryVelocitiesTracksTimingAndLandmarksThatRead
   const auto twists = readVelocities(out + "/velocities.txt");
   ASSERT_EQ(twists.size(), 3u);
   EXPECT_DOUBLE_EQ(twists[1].w_c.z(), 0.03);
-  EXPECT_NE(readFile(out + "/tracks.txt").find("\n7 1.500000000 10.250 20.500\n8 1.500100000 11.000 21.000\n"),
-            std::string::npos);
+  EXPECT_NE(
+      readFile(out + "/tracks.txt").find("\n7 1.500000000 10.250 20.500\n8 1.500100000 11.000 21.000\n"),
+      std::string::npos);
   const eval::TimingStats timing = eval::readTimingStats(out + "/timing.csv");
   EXPECT_EQ(timing.updates, 2u);
   EXPECT_TRUE(timing.has_total);

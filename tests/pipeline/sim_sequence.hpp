@@ -19,7 +19,8 @@ inline std::string simulatedSequence(const std::string& scene, const std::string
                                      std::string& error) {
   namespace fs = std::filesystem;
   const fs::path root = fs::path(ASYNEVO_BINARY_DIR) / "test_sequences";
-  const std::string name = scene + "_" + motion + "_" + std::to_string(static_cast<int>(duration_s * 1000)) + "ms";
+  const std::string name =
+      scene + "_" + motion + "_" + std::to_string(static_cast<int>(duration_s * 1000)) + "ms";
   const fs::path folder = root / name;
   if (fs::exists(folder / "events.txt") && fs::exists(folder / "groundtruth.txt")) return folder.string();
   fs::create_directories(root);

@@ -33,7 +33,7 @@ struct DemoResult {
   RunSummary run;
   std::optional<eval::EvalResult> evaluation;  ///< unset when the run did not initialize
   std::string evaluation_error;
-  int plot_status = -1;                        ///< plot_run.py's exit status; -1 = not run
+  int plot_status = -1;  ///< plot_run.py's exit status; -1 = not run
   std::string plot_error;
 };
 

@@ -26,11 +26,11 @@
 namespace asynevo::pipeline {
 
 struct PipelineOptions {
-  bool real_time = false;                 ///< pace events by their timestamps against the wall clock
-  double speed = 1.0;                     ///< real-time mode: playback rate (2 = twice as fast)
-  int64_t marker_period_ns = 1'000'000;   ///< time markers at every multiple of this (1 ms)
-  std::size_t queue_capacity = 0;         ///< chunks; 0 = 1024 offline (~1 s of event time), 60000 real time
-  std::size_t max_chunk_items = 1024;     ///< a chunk is sent at each marker or when it holds this many items
+  bool real_time = false;                ///< pace events by their timestamps against the wall clock
+  double speed = 1.0;                    ///< real-time mode: playback rate (2 = twice as fast)
+  int64_t marker_period_ns = 1'000'000;  ///< time markers at every multiple of this (1 ms)
+  std::size_t queue_capacity = 0;        ///< chunks; 0 = 1024 offline (~1 s of event time), 60000 real time
+  std::size_t max_chunk_items = 1024;    ///< a chunk is sent at each marker or when it holds this many items
 };
 
 /// One element of the frontend → backend sequence.
@@ -72,16 +72,16 @@ struct PipelineStats {
   uint64_t markers = 0;
   uint64_t measurements = 0;
   uint64_t feature_ends = 0;
-  double wall_seconds = 0;            ///< whole run, both threads
-  double frontend_seconds = 0;        ///< reading + frontend (+ pacing sleeps, + waits for the queue)
-  double backend_busy_seconds = 0;    ///< time the backend thread spent in the estimator and the output
+  double wall_seconds = 0;          ///< whole run, both threads
+  double frontend_seconds = 0;      ///< reading + frontend (+ pacing sleeps, + waits for the queue)
+  double backend_busy_seconds = 0;  ///< time the backend thread spent in the estimator and the output
   std::size_t queue_capacity = 0;
-  std::size_t queue_high_water = 0;   ///< most chunks waiting at once
-  uint64_t queue_push_waits = 0;      ///< the frontend waited for room (backend slower)
-  uint64_t queue_pop_waits = 0;       ///< the backend waited for input (frontend slower)
-  int64_t max_lag_ns = 0;             ///< largest backend lag seen at a marker
-  double mean_lag_ns = 0;             ///< mean over markers
-  int64_t max_pacing_behind_ns = 0;   ///< real time: how far the frontend fell behind the wall clock
+  std::size_t queue_high_water = 0;  ///< most chunks waiting at once
+  uint64_t queue_push_waits = 0;     ///< the frontend waited for room (backend slower)
+  uint64_t queue_pop_waits = 0;      ///< the backend waited for input (frontend slower)
+  int64_t max_lag_ns = 0;            ///< largest backend lag seen at a marker
+  double mean_lag_ns = 0;            ///< mean over markers
+  int64_t max_pacing_behind_ns = 0;  ///< real time: how far the frontend fell behind the wall clock
   bool real_time = false;
 
   double spanSeconds() const;

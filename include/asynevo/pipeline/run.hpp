@@ -26,24 +26,24 @@ enum class BackendKind { kWindow, kIncremental };
 std::optional<BackendKind> parseBackendKind(const std::string& name);
 
 struct RunOptions {
-  std::string dataset;                ///< ECD-style folder or event file
+  std::string dataset;  ///< ECD-style folder or event file
   std::string format = "auto";
-  std::string calib;                  ///< "" = the dataset's own calibration file
-  std::string config_path;            ///< "" = defaults (or `config` below)
-  std::optional<Config> config;       ///< used instead of config_path when set (the demo)
+  std::string calib;             ///< "" = the dataset's own calibration file
+  std::string config_path;       ///< "" = defaults (or `config` below)
+  std::optional<Config> config;  ///< used instead of config_path when set (the demo)
   BackendKind backend = BackendKind::kWindow;
-  std::string out;                    ///< run folder
+  std::string out;  ///< run folder
   bool real_time = false;
-  double speed = 1.0;                 ///< real time: playback rate
+  double speed = 1.0;  ///< real time: playback rate
 };
 
 struct RunSummary {
   std::string out_dir;
-  std::string dataset_events;   ///< the event file read
-  std::string calibration;      ///< the calibration file used
+  std::string dataset_events;  ///< the event file read
+  std::string calibration;     ///< the calibration file used
   std::string format;
   int width = 0, height = 0;
-  Config config;                ///< effective configuration
+  Config config;  ///< effective configuration
   std::string backend_name;
   PipelineStats pipeline;
   frontend::FrontendStats frontend;
