@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "../pipeline/sim_sequence.hpp"
 #include "cli_test_util.hpp"
 #include "io_test_util.hpp"
 
@@ -15,7 +16,7 @@ namespace asynevo {
 namespace {
 
 using testing::CommandResult;
-using testing::TempDir;
+using TempDir = testing::UniqueTempDir;
 
 /// Runs asynevo with `arguments` inside `folder`.
 CommandResult runAsynevoIn(const std::string& folder, const std::string& arguments) {

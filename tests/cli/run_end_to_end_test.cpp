@@ -14,7 +14,7 @@ namespace asynevo {
 namespace {
 
 using testing::runAsynevo;
-using testing::TempDir;
+using TempDir = testing::UniqueTempDir;
 
 std::string readFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 
+#include "../pipeline/sim_sequence.hpp"
 #include "cli_test_util.hpp"
 #include "io_test_util.hpp"
 
@@ -15,7 +16,7 @@ namespace {
 
 using testing::dataPath;
 using testing::runAsynevo;
-using testing::TempDir;
+using TempDir = testing::UniqueTempDir;
 
 TEST(RunCommand, MissingCalibrationIsAnErrorBeforeAnyProcessing) {
   const TempDir dir;
