@@ -2,6 +2,7 @@
 // Helpers for I/O tests: a private temporary folder per test and small file writers.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,8 +15,9 @@ class TempDir {
  public:
   TempDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() /
-            (std::string("asynevo_") + info->test_suite_name() + "_" + info->name());
+    // The process id keeps copies of the same test (other build folders, ctest -j) apart.
+    path_ = std::filesystem::temp_directory_path() / (std::string("asynevo_") + info->test_suite_name() + "_" +
+                                                      info->name() + "_" + std::to_string(::getpid()));
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }
