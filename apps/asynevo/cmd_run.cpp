@@ -1,5 +1,5 @@
 // 'asynevo run --dataset PATH [--format auto|ecd|mvsec|aevt] [--calib FILE] [--config FILE]
-//  [--backend window|incremental] [--realtime [--speed X]] --out DIR' (contract: DESIGN.md §1).
+//  [--backend window|incremental|incremental-frozen] [--realtime [--speed X]] --out DIR' (contract: DESIGN.md §1).
 // The work is pipeline::runDataset (docs/pipeline.md); this file parses, shows progress and reports.
 #include <fmt/format.h>
 
@@ -22,12 +22,12 @@ struct RunCliOptions {
 
 void runRun(RunCliOptions& options) {
   const auto kind = pipeline::parseBackendKind(options.backend);
-  if (!kind) throw Error("unknown backend '" + options.backend + "' (window, incremental)");
+  if (!kind) throw Error("unknown backend '" + options.backend + "' (window, incremental, incremental-frozen)");
   options.run.backend = *kind;
   Progress progress;
   pipeline::RunSummary summary;
   summary = pipeline::runDataset(options.run, [&](const pipeline::PipelineProgress& p) {
-    progress.update(p.events, p.event_t_ns, p.first_t_ns);
+    progress.update(p.events, p.event_t_ns, p.first_t_ns, p.lag_ns);
   });
   progress.finish();
   fmt::print("{}", pipeline::runSummaryText(summary));
@@ -48,8 +48,9 @@ void addRunCommand(CLI::App& app) {
                   "calibration file (ECD calib.txt or Kalibr YAML; default: the dataset's)");
   cmd->add_option("--config", run.config_path, "configuration YAML (overrides the defaults; see config/)");
   cmd->add_option("--backend", options.backend,
-                  "estimator: window (AsynEVO) or incremental (full-history smoother baseline)")
-      ->check(CLI::IsMember({"window", "incremental"}))
+                  "estimator: window (AsynEVO), incremental (full-history smoother baseline) or "
+                  "incremental-frozen (the same with old knots held constant)")
+      ->check(CLI::IsMember({"window", "incremental", "incremental-frozen"}))
       ->capture_default_str();
   cmd->add_option("--out", run.out, "run folder to write")->required();
   cmd->add_flag("--realtime", run.real_time,

@@ -20,17 +20,20 @@ class Progress {
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
 
-  /// `events` processed so far, the current event time and the stream's first event time.
-  void update(uint64_t events, int64_t t_ns, int64_t first_t_ns) {
+  /// `events` processed so far, the current event time and the stream's first event time; `lag_ns`
+  /// (optional, < 0 = not shown) how far the backend is behind the newest event time.
+  void update(uint64_t events, int64_t t_ns, int64_t first_t_ns, int64_t lag_ns = -1) {
     if (!enabled_) return;
     const auto now = Clock::now();
     if (now - last_ < std::chrono::milliseconds(250)) return;
     last_ = now;
     const double wall = std::chrono::duration<double>(now - start_).count();
     const double stream = durationSeconds(first_t_ns, t_ns);
-    fmt::print(stderr, "\r  {:>12L} events  t = {:.3f} s  {:.1f} M events/s  real-time factor {:.2f}   ", events,
+    fmt::print(stderr, "\r  {:>12L} events  t = {:.3f} s  {:.1f} M events/s  real-time factor {:.2f}", events,
                nsToSeconds(t_ns), wall > 0 ? static_cast<double>(events) / wall * 1e-6 : 0.0,
                stream > 0 ? wall / stream : 0.0);
+    if (lag_ns >= 0) fmt::print(stderr, "  backend lag {:.2f} s", nsToSeconds(lag_ns));
+    fmt::print(stderr, "   ");
     shown_ = true;
   }
   void finish() {

@@ -21,6 +21,7 @@ namespace asynevo::pipeline {
 std::optional<BackendKind> parseBackendKind(const std::string& name) {
   if (name == "window") return BackendKind::kWindow;
   if (name == "incremental") return BackendKind::kIncremental;
+  if (name == "incremental-frozen") return BackendKind::kIncrementalFrozen;
   return std::nullopt;
 }
 
@@ -80,11 +81,13 @@ RunSummary runDataset(const RunOptions& options,
   estimator_options.focal_px = 0.5 * (camera.fx() + camera.fy());
   estimator_options.real_time = options.real_time;
   std::unique_ptr<backend::Estimator> estimator_ptr;
-  if (options.backend == BackendKind::kIncremental)  // the full-history smoother baseline (docs/backend.md)
-    estimator_ptr =
-        std::make_unique<backend::IncrementalEstimator>(estimator_options, backend::IncrementalOptions{});
-  else
+  if (options.backend != BackendKind::kWindow) {  // the full-history smoother baselines (docs/backend.md)
+    backend::IncrementalOptions incremental;
+    incremental.frozen = options.backend == BackendKind::kIncrementalFrozen;
+    estimator_ptr = std::make_unique<backend::IncrementalEstimator>(estimator_options, incremental);
+  } else {
     estimator_ptr = std::make_unique<backend::SlidingWindowEstimator>(estimator_options);
+  }
   backend::Estimator& estimator = *estimator_ptr;
   summary.backend_name = estimator.name();
 

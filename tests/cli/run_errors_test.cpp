@@ -50,6 +50,17 @@ TEST(RunCommand, IncrementalBackendRunsTheFullHistorySmootherBaseline) {
   EXPECT_NE(s.str().find("\"backend\": \"full-history-smoother\""), std::string::npos) << s.str();
 }
 
+TEST(RunCommand, FrozenIncrementalBackendIsNamedForWhatItIs) {
+  const TempDir dir;
+  const auto r = runAsynevo("run --dataset " + dataPath("ecd/shapes_rotation") +
+                            " --backend incremental-frozen --out " + dir.file("out"));
+  EXPECT_NE(r.exit_code, 3) << r.output;
+  std::ifstream stats(dir.file("out/stats.json"));
+  std::stringstream s;
+  s << stats.rdbuf();
+  EXPECT_NE(s.str().find("\"backend\": \"full-history-smoother-frozen\""), std::string::npos) << s.str();
+}
+
 TEST(RunCommand, AnUnknownBackendIsAUsageError) {
   const TempDir dir;
   const auto r = runAsynevo("run --dataset " + dataPath("ecd/shapes_rotation") + " --backend isam2 --out " +

@@ -20,9 +20,10 @@
 namespace asynevo::pipeline {
 
 /// The estimators 'asynevo run --backend' names: AsynEVO's sliding window, or the incremental baseline
-/// (a full-history Ceres smoother standing in for iSAM2, backend::IncrementalEstimator).
-enum class BackendKind { kWindow, kIncremental };
-/// "window" or "incremental"; nullopt otherwise.
+/// (a full-history Ceres smoother standing in for iSAM2, backend::IncrementalEstimator), optionally with
+/// the old history held constant ("incremental-frozen", reference/backend.md §8 option B).
+enum class BackendKind { kWindow, kIncremental, kIncrementalFrozen };
+/// "window", "incremental" or "incremental-frozen"; nullopt otherwise.
 std::optional<BackendKind> parseBackendKind(const std::string& name);
 
 struct RunOptions {
