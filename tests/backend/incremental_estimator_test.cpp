@@ -2,58 +2,22 @@
 
 #include <gtest/gtest.h>
 
-#include "asynevo/eval/alignment.hpp"
-#include "synthetic_scene.hpp"
+#include "estimator_harness.hpp"
 
 namespace asynevo::backend {
 namespace {
 
 using testing::SyntheticScene;
 
-struct RunOutput {
-  std::vector<Knot> knots;
-  std::vector<UpdateRecord> records;
-  EstimatorStats stats;
-};
+using RunOutput = testing::EstimatorRun;
 
 RunOutput run(Estimator& estimator, const std::vector<TrackMeasurement>& measurements, double duration_s) {
-  RunOutput r;
-  std::size_t next = 0;
-  for (int64_t t = 0; t <= std::llround(duration_s * 1e9); t += 1'000'000) {
-    while (next < measurements.size() && measurements[next].t_ns <= t) estimator.addMeasurement(measurements[next++]);
-    estimator.advanceTo(t);
-    for (auto& k : estimator.takeFinalKnots()) r.knots.push_back(k);
-    for (auto& u : estimator.takeUpdateRecords()) r.records.push_back(u);
-  }
-  estimator.finish();
-  for (auto& k : estimator.takeFinalKnots()) r.knots.push_back(k);
-  for (auto& u : estimator.takeUpdateRecords()) r.records.push_back(u);
-  r.stats = estimator.stats();
-  return r;
+  return testing::driveEstimator(estimator, measurements, duration_s);
 }
 
-double ateRmse(const std::vector<Knot>& knots) {
-  std::vector<Eigen::Vector3d> p_est, p_gt;
-  std::vector<Eigen::Matrix3d> R_est, R_gt;
-  for (const Knot& k : knots) {
-    const lie::SE3 gt = SyntheticScene::pose(k.t_ns * 1e-9);
-    p_est.push_back(k.T_w_c().translation());
-    R_est.push_back(k.T_w_c().rotation());
-    p_gt.push_back(gt.translation());
-    R_gt.push_back(gt.rotation());
-  }
-  const eval::Similarity S = eval::alignTrajectory(p_est, R_est, p_gt, R_gt, eval::AlignType::kSim3);
-  double sum = 0;
-  for (std::size_t i = 0; i < p_est.size(); ++i) sum += (S.apply(p_est[i]) - p_gt[i]).squaredNorm();
-  return std::sqrt(sum / static_cast<double>(p_est.size()));
-}
+double ateRmse(const std::vector<Knot>& knots) { return testing::accuracy(knots).ate_rmse; }
 
-EstimatorOptions baseOptions() {
-  EstimatorOptions options;
-  options.focal_px = 200;
-  options.config.init_min_parallax_px = 8;  // the synthetic camera moves slowly
-  return options;
-}
+EstimatorOptions baseOptions() { return testing::syntheticSceneOptions(); }
 
 TEST(IncrementalEstimator, FullHistoryKeepsEveryKnotAndReoptimizesOnNewMeasurements) {
   const SyntheticScene scene(150);

@@ -2,66 +2,23 @@
 
 #include <gtest/gtest.h>
 
-#include "asynevo/eval/alignment.hpp"
-#include "synthetic_scene.hpp"
+#include "estimator_harness.hpp"
 
 namespace asynevo::backend {
 namespace {
 
 using testing::SyntheticScene;
 
-struct RunResult {
-  std::vector<Knot> knots;
-  EstimatorStats stats;
-  std::vector<UpdateRecord> records;
-};
+using testing::accuracy;
+using testing::Accuracy;
+using RunResult = testing::EstimatorRun;
 
 RunResult runEstimator(const std::vector<TrackMeasurement>& measurements, double duration_s, EstimatorOptions options) {
   SlidingWindowEstimator estimator(options);
-  RunResult result;
-  std::size_t next = 0;
-  for (int64_t t = 0; t <= std::llround(duration_s * 1e9); t += 1'000'000) {  // 1 ms event-time ticks
-    while (next < measurements.size() && measurements[next].t_ns <= t) estimator.addMeasurement(measurements[next++]);
-    estimator.advanceTo(t);
-    for (auto& k : estimator.takeFinalKnots()) result.knots.push_back(k);
-    for (auto& r : estimator.takeUpdateRecords()) result.records.push_back(r);
-  }
-  estimator.finish();
-  for (auto& k : estimator.takeFinalKnots()) result.knots.push_back(k);
-  for (auto& r : estimator.takeUpdateRecords()) result.records.push_back(r);
-  result.stats = estimator.stats();
-  return result;
+  return testing::driveEstimator(estimator, measurements, duration_s);
 }
 
-struct Accuracy {
-  double ate_rmse = 0;
-  double path_length = 0;
-};
-
-Accuracy accuracy(const std::vector<Knot>& knots) {
-  std::vector<Eigen::Vector3d> p_est, p_gt;
-  std::vector<Eigen::Matrix3d> R_est, R_gt;
-  double length = 0;
-  for (const Knot& k : knots) {
-    const lie::SE3 gt = SyntheticScene::pose(k.t_ns * 1e-9);
-    if (!p_gt.empty()) length += (gt.translation() - p_gt.back()).norm();
-    p_est.push_back(k.T_w_c().translation());
-    R_est.push_back(k.T_w_c().rotation());
-    p_gt.push_back(gt.translation());
-    R_gt.push_back(gt.rotation());
-  }
-  const eval::Similarity S = eval::alignTrajectory(p_est, R_est, p_gt, R_gt, eval::AlignType::kSim3);
-  double sum = 0;
-  for (std::size_t i = 0; i < p_est.size(); ++i) sum += (S.apply(p_est[i]) - p_gt[i]).squaredNorm();
-  return {std::sqrt(sum / static_cast<double>(p_est.size())), length};
-}
-
-EstimatorOptions defaultOptions() {
-  EstimatorOptions options;
-  options.focal_px = 200;
-  options.config.init_min_parallax_px = 8;  // the synthetic camera moves slowly
-  return options;
-}
+EstimatorOptions defaultOptions() { return testing::syntheticSceneOptions(); }
 
 TEST(SlidingWindowEstimator, TracksASyntheticSixDofTrajectoryAsWellAsTheFullBatchWithABoundedWindow) {
   const SyntheticScene scene(150);

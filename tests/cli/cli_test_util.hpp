@@ -14,8 +14,10 @@ struct CommandResult {
   std::string output;  ///< stdout and stderr, interleaved
 };
 
-inline CommandResult runAsynevo(const std::string& arguments) {
-  const std::string command = std::string(ASYNEVO_BINARY_DIR) + "/bin/asynevo " + arguments + " 2>&1";
+/// Runs `asynevo <arguments>`, in `working_dir` when given (else the test's working directory).
+inline CommandResult runAsynevo(const std::string& arguments, const std::string& working_dir = "") {
+  const std::string cd = working_dir.empty() ? "" : "cd '" + working_dir + "' && ";
+  const std::string command = cd + std::string(ASYNEVO_BINARY_DIR) + "/bin/asynevo " + arguments + " 2>&1";
   CommandResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return result;

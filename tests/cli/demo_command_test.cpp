@@ -15,28 +15,12 @@
 namespace asynevo {
 namespace {
 
-using testing::CommandResult;
 using TempDir = testing::UniqueTempDir;
-
-/// Runs asynevo with `arguments` inside `folder`.
-CommandResult runAsynevoIn(const std::string& folder, const std::string& arguments) {
-  const std::string command =
-      "cd '" + folder + "' && " + std::string(ASYNEVO_BINARY_DIR) + "/bin/asynevo " + arguments + " 2>&1";
-  CommandResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return result;
-  std::array<char, 4096> buffer{};
-  std::size_t n = 0;
-  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
 
 TEST(DemoCommand, WritesIntoAsynevoDemoByDefaultAndReportsAccuracyAndSpeed) {
   const TempDir dir;
   // 1.5 s instead of 10 s keeps the test short (~8 s); figures are skipped (drawn by Python).
-  const auto r = runAsynevoIn(dir.path().string(), "demo --duration 1.5 --no-plots");
+  const auto r = testing::runAsynevo("demo --duration 1.5 --no-plots", dir.path().string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("ATE           RMSE"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("RTE"), std::string::npos) << r.output;
