@@ -12,33 +12,12 @@
 #include <string>
 
 #include "../cli/cli_test_util.hpp"
+#include "../io/io_test_util.hpp"
 
 namespace asynevo::testing {
 
-/// A temporary folder unique to this process (test name + pid): other build folders' copies of the
-/// same test may run at the same time on a shared machine, so the name alone is not enough.
-class UniqueTempDir {
- public:
-  UniqueTempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() / (std::string("asynevo_") + info->test_suite_name() +
-                                                      "_" + info->name() + "_" + std::to_string(getpid()));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~UniqueTempDir() { std::filesystem::remove_all(path_); }
-  UniqueTempDir(const UniqueTempDir&) = delete;
-  UniqueTempDir& operator=(const UniqueTempDir&) = delete;
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  std::string write(const std::string& name, const std::string& content) const {
-    std::ofstream(file(name), std::ios::binary) << content;
-    return file(name);
-  }
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+/// A temporary folder unique to this test and process (io_test_util.hpp's TempDir carries the pid).
+using UniqueTempDir = TempDir;
 
 /// Path of the ECD-format folder for `scene`/`motion`/`duration_s` (seed 1), simulating it if needed.
 /// Returns "" and sets `error` when the simulation failed.
