@@ -7,41 +7,15 @@
 #include <filesystem>
 
 #include "asynevo/core/error.hpp"
+#include "asynevo/core/json.hpp"
 #include "asynevo/core/time.hpp"
 
 namespace asynevo::eval {
 
 namespace {
 
-/// Shortest round-trip form; JSON has no NaN/infinity, so those become null.
-std::string num(double v) { return std::isfinite(v) ? fmt::format("{}", v) : "null"; }
-
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          out += fmt::format("\\u{:04x}", static_cast<int>(c));
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
+std::string num(double v) { return jsonNumber(v); }
+std::string quoted(const std::string& s) { return jsonQuoted(s); }
 
 std::string array(const std::vector<double>& values) {
   std::string out = "[";

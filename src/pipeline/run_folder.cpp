@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "asynevo/core/error.hpp"
+#include "asynevo/core/json.hpp"
 #include "asynevo/core/time.hpp"
 #include "asynevo/io/trajectory_io.hpp"
 
@@ -158,34 +159,7 @@ UpdateTimeStats RunFolderWriter::updateTimeStats() const {
 
 // --- JSON ---
 
-std::string JsonObject::quote(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\r':
-        out += "\\r";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20)
-          out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(c)));
-        else
-          out += c;
-    }
-  }
-  return out + "\"";
-}
+std::string JsonObject::quote(const std::string& text) { return jsonQuoted(text); }
 
 JsonObject& JsonObject::add(const std::string& key, const std::string& value) {
   fields_.emplace_back(key, quote(value));
@@ -193,7 +167,7 @@ JsonObject& JsonObject::add(const std::string& key, const std::string& value) {
   return *this;
 }
 JsonObject& JsonObject::add(const std::string& key, double value) {
-  fields_.emplace_back(key, std::isfinite(value) ? fmt::format("{}", value) : std::string("null"));
+  fields_.emplace_back(key, jsonNumber(value));
   nested_.push_back(false);
   return *this;
 }
