@@ -30,6 +30,10 @@ const char* dropReasonName(DropReason reason) {
       return "unhealthy";
     case DropReason::kFinished:
       return "finished";
+    case DropReason::kDrift:
+      return "drift";
+    case DropReason::kRotation:
+      return "rotation";
   }
   return "?";
 }
@@ -167,6 +171,8 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
       max_idle_ns_(msToNs(config.max_idle_ms)),
       init_timeout_ns_(msToNs(config.init_timeout_ms)),
       housekeeping_ns_(std::max<int64_t>(1, msToNs(config.housekeeping_ms))),
+      drift_check_ns_(std::max<int64_t>(1, msToNs(config.drift_check_ms))),
+      max_rotation_rad_(static_cast<float>(config.max_rotation_deg * kPi / 180.0)),
       border_margin_(static_cast<float>(config.border_margin_px)) {
   config.validate();
   if (undistortion_.width() != 0 && (undistortion_.width() != width || undistortion_.height() != height))
@@ -179,6 +185,7 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
     free_slots_.push_back(i);
   }
   changed_.reserve(slots_.size());
+  roll_scratch_.resize(slots_.size());
 }
 
 Frontend::~Frontend() = default;
@@ -294,6 +301,10 @@ void Frontend::onStateChange(int slot, int64_t t_ns, MeasurementSink& sink) {
         st.y <= float(height_ - 1) - border_margin_))
     return drop(slot, DropReason::kBorder, t_ns, sink);
   s.last_change_ns = t_ns;
+  if (tracker.stateChanges() == 1) {  // initialization: the template's frame starts at the common roll
+    s.roll_at_init = common_roll_;
+    s.next_drift_check_ns = t_ns + drift_check_ns_;
+  }
 
   // Registration table: collisions with another feature within the collision radius.
   const int rx = std::clamp(static_cast<int>(std::lround(st.x)), 0, width_ - 1);
@@ -394,20 +405,44 @@ void Frontend::drop(int slot, DropReason reason, int64_t t_ns, MeasurementSink& 
   free_slots_.push_back(slot);
 }
 
+float Frontend::rollDeparture(const Slot& s) const {
+  return wrapAngle(s.tracker->state().theta + s.roll_at_init - common_roll_);
+}
+
+void Frontend::updateCommonRoll() {
+  // The in-plane rotation every patch of a rigid scene undergoes is (to first order) the camera's roll
+  // about its optical axis: estimate it robustly as the median over the initialized features of their
+  // rotation since initialization plus the common roll at that time (relative to the current estimate,
+  // so the median is taken away from the wrap-around).
+  int n = 0;
+  for (const Slot& s : slots_)
+    if (s.id >= 0 && s.tracker->initialized()) roll_scratch_[static_cast<std::size_t>(n++)] = rollDeparture(s);
+  if (n < 3) return;  // too few features for a robust common value
+  const auto mid = roll_scratch_.begin() + n / 2;
+  std::nth_element(roll_scratch_.begin(), mid, roll_scratch_.begin() + n);
+  common_roll_ = wrapAngle(common_roll_ + *mid);
+}
+
 void Frontend::housekeeping(int64_t t_ns, MeasurementSink& sink) {
   stats_.active_feature_seconds += stats_.active_features * durationSeconds(last_housekeeping_ns_, t_ns);
   last_housekeeping_ns_ = t_ns;
   next_housekeeping_ns_ = t_ns + housekeeping_ns_;
+  if (max_rotation_rad_ > 0) updateCommonRoll();
   for (int slot = 0; slot < static_cast<int>(slots_.size()); ++slot) {
-    const Slot& s = slots_[slot];
+    Slot& s = slots_[slot];
     if (s.id < 0) continue;
-    const HasteTracker& tracker = *s.tracker;
+    HasteTracker& tracker = *s.tracker;
     if (!tracker.initialized()) {
       if (t_ns - s.created_ns > init_timeout_ns_) drop(slot, DropReason::kInitTimeout, t_ns, sink);
     } else if (t_ns - s.last_change_ns > max_idle_ns_) {
       drop(slot, DropReason::kIdle, t_ns, sink);
     } else if (tracker.windowAnisotropy() < config_.min_anisotropy) {
       drop(slot, DropReason::kQuality, t_ns, sink);
+    } else if (max_rotation_rad_ > 0 && std::abs(rollDeparture(s)) > max_rotation_rad_) {
+      drop(slot, DropReason::kRotation, t_ns, sink);
+    } else if (config_.max_drift_px > 0 && t_ns >= s.next_drift_check_ns) {
+      s.next_drift_check_ns = t_ns + drift_check_ns_;
+      if (tracker.firstTemplateDrift() > config_.max_drift_px) drop(slot, DropReason::kDrift, t_ns, sink);
     }
   }
 }

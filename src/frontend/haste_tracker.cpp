@@ -6,23 +6,22 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 
 namespace asynevo::frontend {
 
 namespace {
 
-constexpr float kPi = 3.14159265358979323846f;
 constexpr float kInvWindow = 1.0f / HasteTracker::kWindow;
 constexpr int kStencilOffset[4] = {0, 1, HasteTracker::kPatchSize, HasteTracker::kPatchSize + 1};
 
+}  // namespace
+
 float wrapAngle(float a) {
-  // (-pi, pi]
   while (a > kPi) a -= 2 * kPi;
   while (a <= -kPi) a += 2 * kPi;
   return a;
 }
-
-}  // namespace
 
 HasteTracker::HasteTracker(const HasteParams& params) : window_(kWindow), params_(params) {}
 
@@ -35,6 +34,7 @@ void HasteTracker::reset(int64_t t_ns, float x, float y, float theta) {
   events_since_change_ = 0;
   state_changes_ = 0;
   std::fill(std::begin(moment_), std::end(moment_), 0.0);
+  drift_dx_ = drift_dy_ = drift_dth_ = 0;
   origin_x_ = x;
   origin_y_ = y;
   generateHypotheses();
@@ -118,6 +118,65 @@ float HasteTracker::windowAnisotropy() const {
   return static_cast<float>(std::max(0.0, small) / large);
 }
 
+double HasteTracker::matchScore(const Patch& tmpl, float x, float y, float theta) const {
+  Hypothesis h;
+  h.x = x;
+  h.y = y;
+  h.theta = theta;
+  h.c = std::cos(theta);
+  h.s = std::sin(theta);
+  double sum = 0;
+  for (int i = 0; i < count_; ++i) {
+    const WindowEvent& e = windowEvent(i);
+    float xp, yp;
+    toPatch(h, e.x, e.y, xp, yp);
+    sum += sample(tmpl, xp, yp);
+  }
+  return sum * kInvWindow;
+}
+
+float HasteTracker::firstTemplateDrift() {
+  if (!initialized_) return 0.f;
+  // Scores of visited offsets, so a hill-climbing step never evaluates one twice.
+  constexpr int kReach = 6, kSide = 2 * kReach + 1, kTurns = 5;
+  std::array<double, kSide * kSide * kTurns> cache;
+  cache.fill(std::numeric_limits<double>::quiet_NaN());
+  auto score = [&](int dx, int dy, int dth) {
+    double& v = cache[((dth + kTurns / 2) * kSide + dy + kReach) * kSide + dx + kReach];
+    if (std::isnan(v))
+      v = matchScore(first_template_, state_.x + float(dx), state_.y + float(dy),
+                     state_.theta + float(dth) * kRotationStep);
+    return v;
+  };
+  int bx = std::clamp(drift_dx_, -kReach, kReach), by = std::clamp(drift_dy_, -kReach, kReach);
+  int bth = std::clamp(drift_dth_, -kTurns / 2, kTurns / 2);
+  double best = score(bx, by, bth);
+  for (bool moved = true; moved;) {
+    moved = false;
+    const int cx = bx, cy = by, cth = bth;
+    for (int dth = -1; dth <= 1; ++dth)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int x = cx + dx, y = cy + dy, th = cth + dth;
+          if ((dx == 0 && dy == 0 && dth == 0) || std::abs(x) > kReach || std::abs(y) > kReach ||
+              std::abs(th) > kTurns / 2)
+            continue;
+          const double v = score(x, y, th);
+          if (v > best) {
+            best = v;
+            bx = x;
+            by = y;
+            bth = th;
+            moved = true;
+          }
+        }
+  }
+  drift_dx_ = bx;
+  drift_dy_ = by;
+  drift_dth_ = bth;
+  return std::hypot(float(bx), float(by));
+}
+
 TrackerResult HasteTracker::pushInRange(int64_t t_ns, float x, float y) {
   const WindowEvent e{t_ns, x, y};
   if (!initialized_) {
@@ -130,6 +189,7 @@ TrackerResult HasteTracker::pushInRange(int64_t t_ns, float x, float y) {
       healthy_ = false;
       return TrackerResult::kRegular;
     }
+    first_template_ = normalized_;
     rebuildScores();
     initialized_ = true;
     state_.t_ns = windowEvent(kMiddle).t_ns;

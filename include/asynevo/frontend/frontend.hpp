@@ -9,7 +9,9 @@
 //  3. otherwise, when fewer than max_features are active, run the corner detector; a corner seeds a
 //     feature when the registration table holds no feature within min_distance (patch search);
 //  4. every housekeeping period of event time drop features that are idle, that never initialized,
-//     or that fail the quality test (window events spread along a line: an edge, where HASTE drifts).
+//     or that fail a quality test: window events spread along a line (an edge, where HASTE slides),
+//     drift from the first template (a reference the tracker cannot pull along), or a patch rotation
+//     inconsistent with the common rotation of all features (sliding around a curved contour).
 // Trackers work in raw pixel coordinates; measurements carry raw pixels and normalized undistorted
 // coordinates interpolated from an injected per-pixel undistortion table.
 // After construction nothing is allocated per event (trackers live in a fixed pool).
@@ -39,8 +41,10 @@ enum class DropReason : uint8_t {
   kQuality,      ///< quality test failed (edge-like window: drift risk)
   kUnhealthy,    ///< the tracker's template lost its mass (numerical guard)
   kFinished,     ///< the stream ended (finish())
+  kDrift,        ///< its window matches its first template away from its state (slid or lost)
+  kRotation,     ///< its patch rotated away from the features' common rotation (slid around a curve)
 };
-constexpr int kDropReasonCount = 7;
+constexpr int kDropReasonCount = 9;
 const char* dropReasonName(DropReason reason);
 
 struct FeatureEnd {
@@ -126,6 +130,12 @@ class Frontend {
   /// The active features (allocates; not for the hot path).
   std::vector<FeatureView> features() const;
 
+  /// The tracker of an active feature, or nullptr (introspection for tests and tools).
+  const HasteTracker* tracker(int64_t id) const {
+    const int slot = id_map_.find(id);
+    return slot < 0 ? nullptr : slots_[static_cast<std::size_t>(slot)].tracker.get();
+  }
+
   /// Normalized coordinates of a raw position (bilinear in the table); false when not available.
   bool normalize(float x, float y, float& xn, float& yn) const;
 
@@ -141,6 +151,8 @@ class Frontend {
     int cell = -1;       ///< dispatch-grid cell
     int next_in_cell = -1;
     uint32_t measurements = 0;
+    int64_t next_drift_check_ns = 0;
+    float roll_at_init = 0.f;  ///< common roll when its tracker initialized
   };
   /// id -> slot, open addressing with linear probing; fixed capacity, no allocation after construction.
   class IdMap {
@@ -161,6 +173,9 @@ class Frontend {
   };
 
   void housekeeping(int64_t t_ns, MeasurementSink& sink);
+  void updateCommonRoll();
+  /// A feature's rotation since initialization minus the common rotation since then (wrapped).
+  float rollDeparture(const Slot& s) const;
   void onStateChange(int slot, int64_t t_ns, MeasurementSink& sink);
   void trySeed(const Event& e);
   void drop(int slot, DropReason reason, int64_t t_ns, MeasurementSink& sink);
@@ -184,6 +199,8 @@ class Frontend {
   int grid_h_;
   std::vector<int> cell_heads_;
   std::vector<std::pair<int, int64_t>> changed_;  ///< (slot, id) whose state changed on this event
+  std::vector<float> roll_scratch_;  ///< per-slot values for the median of the common roll, allocated once
+  float common_roll_ = 0.f;          ///< median in-plane rotation of the features (radians, wrapped)
   int64_t next_id_ = 0;
   int64_t newest_t_ns_ = 0;
   bool started_ = false;
@@ -195,6 +212,8 @@ class Frontend {
   int64_t max_idle_ns_;
   int64_t init_timeout_ns_;
   int64_t housekeeping_ns_;
+  int64_t drift_check_ns_;
+  float max_rotation_rad_;
   float border_margin_;
   FrontendStats stats_;
 };

@@ -24,6 +24,10 @@
 
 namespace asynevo::frontend {
 
+constexpr float kPi = 3.14159265358979323846f;
+/// An angle wrapped to (-pi, pi].
+float wrapAngle(float a);
+
 enum class TrackerResult : uint8_t {
   kOutOfRange,    ///< the event is outside the tracker's circle: ignored
   kInitializing,  ///< the event was added to the (not yet full) first window
@@ -60,7 +64,7 @@ class HasteTracker {
   static constexpr int kWindow = 193;  ///< 1 + 2 floor(0.2 * 31 * 31 / 2) (reference texture factor 0.2)
   static constexpr int kMiddle = kWindow / 2;
   static constexpr int kHypotheses = 11;
-  static constexpr float kRotationStep = 4.0f * 3.14159265358979f / 180.0f;
+  static constexpr float kRotationStep = 4.0f * kPi / 180.0f;
 
   using Patch = std::array<float, kPatchCells>;  ///< [yp * 31 + xp]
 
@@ -101,6 +105,17 @@ class HasteTracker {
   const Patch& templatePatch() const { return template_; }
   /// The normalised template the scores currently use (frozen at the last switch).
   const Patch& normalizedTemplate() const { return normalized_; }
+  /// The normalised template of the first window (built at initialization, never updated): a reference
+  /// the tracker cannot pull along.
+  const Patch& firstTemplate() const { return first_template_; }
+  /// Mean bilinear sample of `tmpl` at the window events mapped into the patch under the pose
+  /// (x, y, theta): the HasteCorrelation score of that pose against that template.
+  double matchScore(const Patch& tmpl, float x, float y, float theta) const;
+  /// Drift test against the first template: the pose of the best match of the current window to
+  /// firstTemplate(), searched by hill climbing on the hypothesis grid (1 px, kRotationStep) from the
+  /// previous check's offset; returns its translation from the current state in px. A tracker that slid
+  /// along a contour, or lost its feature, is far from where its first window says it should be.
+  float firstTemplateDrift();
   /// The window events, oldest first (fewer than kWindow while initializing).
   int windowSize() const { return count_; }
   const WindowEvent& windowEvent(int i) const { return window_[(head_ + i) % kWindow]; }
@@ -169,6 +184,8 @@ class HasteTracker {
   bool initialized_ = false;
   bool healthy_ = true;
   Patch template_{};
+  Patch first_template_{};
+  int drift_dx_ = 0, drift_dy_ = 0, drift_dth_ = 0;  ///< best first-template offset at the last check
   uint32_t events_since_change_ = 0;
   uint32_t state_changes_ = 0;
   double moment_[5] = {0, 0, 0, 0, 0};  ///< sums of x, y, xx, xy, yy over the window (relative to origin_)

@@ -50,6 +50,9 @@ void FrontendConfig::validate() const {
   requireRange("frontend.init_timeout_ms", init_timeout_ms, 0.001, 1e9);
   requireRange("frontend.housekeeping_ms", housekeeping_ms, 0.001, 1e6);
   requireRange("frontend.min_anisotropy", min_anisotropy, 0.0, 1.0);
+  requireRange("frontend.max_drift_px", max_drift_px, 0.0, 6.0);
+  requireRange("frontend.drift_check_ms", drift_check_ms, 0.001, 1e6);
+  requireRange("frontend.max_rotation_deg", max_rotation_deg, 0.0, 180.0);
   requireRange("frontend.max_time_reversal_us", max_time_reversal_us, 0.0, 1e9);
 }
 

@@ -35,6 +35,9 @@ struct FrontendConfig {
   double init_timeout_ms = 100.0;     ///< a tracker not initialized after this long is dropped
   double housekeeping_ms = 1.0;       ///< period (event time) of the idle/time-out/quality checks
   double min_anisotropy = 0.06;       ///< quality: min eigenvalue ratio of the window events' spread
+  double max_drift_px = 2.0;          ///< drift test: max offset of the first-template match (0 = off)
+  double drift_check_ms = 5.0;        ///< event-time period of a feature's drift test
+  double max_rotation_deg = 20.0;     ///< rotation test: max departure from the features' common roll (0 = off)
   double max_time_reversal_us = 0.0;  ///< events earlier than their predecessor by more are dropped
 
   template <class V>
@@ -70,6 +73,15 @@ struct FrontendConfig {
     v("min_anisotropy", min_anisotropy,
       "quality test: a feature is dropped when its window events spread along a line (ratio of the "
       "smaller to the larger eigenvalue of their covariance below this): an edge, which HASTE drifts along");
+    v("max_drift_px", max_drift_px,
+      "drift test: a feature is dropped when the best match of its current event window to the template of "
+      "its first window lies farther than this from its state (it slid along a contour or lost its feature); "
+      "0 disables the test");
+    v("drift_check_ms", drift_check_ms, "event-time period of each feature's drift test");
+    v("max_rotation_deg", max_rotation_deg,
+      "rotation test: a feature is dropped when its patch rotation since initialization departs by more than "
+      "this from the common rotation of all features (the median; a rigid scene rotates every patch alike), "
+      "the sign of a tracker sliding around a curved contour; 0 disables the test");
     v("max_time_reversal_us", max_time_reversal_us,
       "events earlier than the newest seen by more than this are dropped and counted; smaller steps "
       "back are processed at the newest time");
