@@ -52,7 +52,7 @@ except ImportError as e:  # pragma: no cover - depends on the machine
     )
 
 sys.path.insert(0, TOOLS_DIR)
-from plot_run import load_csv_with_header, load_table, quat_to_rot, rot_log  # noqa: E402
+from plot_run import load_table, quat_to_rot, rot_log  # noqa: E402
 
 BEGIN_MARKER = "<!-- results:begin -->"
 END_MARKER = "<!-- results:end -->"
@@ -284,12 +284,27 @@ def run_backend(args, seq, backend):
 
 
 def load_timing(path):
-    """dict column -> array from timing.csv, or None."""
-    table = load_csv_with_header(path)
-    if table is None:
+    """dict column -> array from timing.csv, or None. Rows with the wrong number of fields or
+    non-numbers are skipped (a run stopped by --run-timeout can leave a truncated last line)."""
+    if not os.path.isfile(path):
         return None
-    header, data = table
-    return {h: data[:, k] for k, h in enumerate(header) if k < data.shape[1]}
+    header, rows = None, []
+    with open(path) as f:
+        for line in f:
+            fields = [v.strip() for v in line.strip().split(",")]
+            if header is None:
+                header = fields
+                continue
+            if len(fields) != len(header):
+                continue
+            try:
+                rows.append([float(v) for v in fields])
+            except ValueError:
+                continue
+    if header is None or not rows:
+        return None
+    data = np.array(rows)
+    return {h: data[:, k] for k, h in enumerate(header)}
 
 
 def gt_body_velocity(t, p, q):
@@ -422,23 +437,24 @@ def runs_of(results, seq_name):
     return [r for r in results if r["sequence"] == seq_name]
 
 
-def plot_runtime_over_time(seqs, results, fig_dir):
-    fig, axes = plt.subplots(len(seqs), 1, figsize=(8, 2.4 * len(seqs) + 0.4), squeeze=False, sharex=False)
+def plot_timing_series(seqs, results, fig_dir, column, ylabel, name, **style):
+    """One panel per sequence: a timing.csv column over event time, one line per backend (log y)."""
+    fig, axes = plt.subplots(len(seqs), 1, figsize=(8, 2.3 * len(seqs) + 0.4), squeeze=False)
     for ax, seq in zip(axes[:, 0], seqs):
         for r in runs_of(results, seq["name"]):
             tm = r["timing"]
-            if tm is None or "total_ms" not in tm:
+            if tm is None or column not in tm:
                 continue
             label = BACKEND_LABELS[r["backend"]] + ("" if r["status"] == "ok" else " (%s)" % r["status"])
-            ax.plot(tm["t_s"], tm["total_ms"], lw=0.6, color=BACKEND_COLORS[r["backend"]], label=label)
+            ax.plot(tm["t_s"], tm[column], color=BACKEND_COLORS[r["backend"]], label=label, **style)
         ax.set_yscale("log")
         ax.set_title(seq["name"], fontsize=9)
-        ax.set_ylabel("ms per update")
+        ax.set_ylabel(ylabel)
         ax.grid(True, which="both", alpha=0.3)
         legend(ax, fontsize=7, loc="upper left")
     axes[-1, 0].set_xlabel("event time [s]")
     fig.tight_layout()
-    return save_fig(fig, fig_dir, "runtime_over_time.png")
+    return save_fig(fig, fig_dir, name)
 
 
 def plot_runtime_boxes(seqs, results, fig_dir):
@@ -465,25 +481,6 @@ def plot_runtime_boxes(seqs, results, fig_dir):
     axes[0, 0].set_ylabel("ms per update (whiskers 1.5 IQR)")
     fig.tight_layout()
     return save_fig(fig, fig_dir, "runtime_boxplots.png")
-
-
-def plot_window_size(seqs, results, fig_dir):
-    fig, axes = plt.subplots(len(seqs), 1, figsize=(8, 2.2 * len(seqs) + 0.4), squeeze=False)
-    for ax, seq in zip(axes[:, 0], seqs):
-        for r in runs_of(results, seq["name"]):
-            tm = r["timing"]
-            if tm is None or "window_knots" not in tm:
-                continue
-            ax.plot(tm["t_s"], tm["window_knots"], lw=0.8, color=BACKEND_COLORS[r["backend"]],
-                    label=BACKEND_LABELS[r["backend"]], drawstyle="steps-post")  # fmt: skip
-        ax.set_yscale("log")
-        ax.set_title(seq["name"], fontsize=9)
-        ax.set_ylabel("knots optimized")
-        ax.grid(True, which="both", alpha=0.3)
-        legend(ax, fontsize=7, loc="upper left")
-    axes[-1, 0].set_xlabel("event time [s]")
-    fig.tight_layout()
-    return save_fig(fig, fig_dir, "window_size.png")
 
 
 def plot_trajectories(seqs, results, fig_dir):
@@ -516,6 +513,14 @@ def plot_trajectories(seqs, results, fig_dir):
 # ----------------------------------------------------------------------------- report
 
 
+def md_table(head, rows):
+    """A markdown table; short rows are filled with '–'."""
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for cells in rows:
+        lines.append("| " + " | ".join(list(cells) + ["–"] * (len(head) - len(cells))) + " |")
+    return "\n".join(lines)
+
+
 def rte_lengths(results):
     """The number of relative-error lengths to tabulate (the toolbox's 10..50 %)."""
     n = 0
@@ -530,13 +535,13 @@ def accuracy_table(seqs, results):
     head = ["sequence", "backend", "status", "path m", "ATE m", "ATE % path"]
     head += ["RTE @%s %%" % p.replace(" %", "") for p in pct]
     head += ["RTE rot ° (pooled mean)", "vel RMSE % mean speed", "ω RMSE °/s", "scale", "coverage %", "max gap s"]
-    rows = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    rows = []
     for seq in seqs:
         for r in runs_of(results, seq["name"]):
             s = r["summary"]
             if r["status"] != "ok":
                 msg = r.get("message", "").replace("|", "/")
-                rows.append("| %s | %s | **%s**: %s |" % (seq["name"], r["backend"], r["status"], msg) + " – |" * (len(head) - 3))
+                rows.append([seq["name"], r["backend"], "**%s**: %s" % (r["status"], msg)])
                 continue
             rte = s.get("rte", [])
             cells = [seq["name"], r["backend"], "ok", fmt(s.get("path_length_m")), fmt(s.get("ate_rmse_m"), 3),
@@ -545,14 +550,14 @@ def accuracy_table(seqs, results):
                 cells.append(fmt(rte[k]["trans_perc_mean"], 1) if k < len(rte) else "–")
             cells += [fmt(s.get("rte_pooled_rot_deg")), fmt(s.get("vel_rmse_perc"), 1), fmt(s.get("omega_rmse_dps"), 1),
                       fmt(s.get("scale"), 3), fmt(s.get("coverage_perc"), 1), fmt(s.get("max_gap_s"), 3)]  # fmt: skip
-            rows.append("| " + " | ".join(cells) + " |")
-    return "\n".join(rows)
+            rows.append(cells)
+    return md_table(head, rows)
 
 
 def runtime_table(seqs, results):
     head = ["sequence", "backend", "status", "updates", "median ms", "p95 ms", "max ms", "backend s",
             "wall s", "real-time factor", "peak MB", "max knots"]  # fmt: skip
-    rows = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    rows = []
     for seq in seqs:
         for r in runs_of(results, seq["name"]):
             s = r["summary"]
@@ -563,15 +568,15 @@ def runtime_table(seqs, results):
                      fmt(s.get("update_p95_ms"), 1), fmt(s.get("update_max_ms"), 1), fmt(s.get("backend_total_s"), 1),
                      fmt(s.get("wall_time_s", r.get("wall_s")), 1), fmt(s.get("real_time_factor")),
                      fmt(s.get("peak_memory_mb"), 0), fmt(s.get("window_knots_max"))]  # fmt: skip
-            rows.append("| " + " | ".join(cells) + " |")
-    return "\n".join(rows)
+            rows.append(cells)
+    return md_table(head, rows)
 
 
 def ratio_table(seqs, results):
     """Median-time ratio baseline / window per sequence, overall and per quarter of the run."""
     head = ["sequence", "baseline", "median ratio", "Q1", "Q2", "Q3", "Q4", "baseline Q4/Q1",
             "window Q4/Q1", "baseline slope ms/s", "window slope ms/s", "backend-time ratio"]  # fmt: skip
-    rows = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    rows = []
     summary = []
     for seq in seqs:
         by = {r["backend"]: r for r in runs_of(results, seq["name"])}
@@ -582,7 +587,7 @@ def ratio_table(seqs, results):
                 continue
             sw, sb = w["summary"], r["summary"]
             if "update_median_ms" not in sw or "update_median_ms" not in sb:
-                rows.append("| %s | %s | no timing (%s / %s) |" % (seq["name"], b, w["status"], r["status"]) + " – |" * 9)
+                rows.append([seq["name"], b, "no timing (%s / %s)" % (w["status"], r["status"])])
                 continue
             ratio = sb["update_median_ms"] / sw["update_median_ms"]
             qs = []
@@ -593,30 +598,28 @@ def ratio_table(seqs, results):
             cells = [seq["name"], b + note, fmt(ratio)] + [fmt(q) for q in qs]
             cells += [fmt(sb.get("growth_q4_over_q1")), fmt(sw.get("growth_q4_over_q1")),
                       fmt(sb.get("slope_ms_per_s"), 1), fmt(sw.get("slope_ms_per_s"), 1), fmt(tot)]  # fmt: skip
-            rows.append("| " + " | ".join(cells) + " |")
+            rows.append(cells)
             summary.append(dict(sequence=seq["name"], baseline=b, median_ratio=ratio, quarter_ratios=qs,
                                 backend_time_ratio=tot, baseline_status=r["status"]))  # fmt: skip
-    return "\n".join(rows), summary
+    return md_table(head, rows), summary
 
 
 def targets_table(seqs, results):
     head = ["sequence", "backend", "ATE ≤ 1 % of path", "RTE @10 % ≤ 2 %", "velocity ≤ 10 % of mean speed",
             "real-time factor ≤ 1"]  # fmt: skip
-    rows = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    rows = []
     for seq in seqs:
         for r in runs_of(results, seq["name"]):
             s = r["summary"]
             if r["status"] != "ok":
-                rows.append("| %s | %s | **%s** | **%s** | **%s** | %s |" % (
-                    seq["name"], r["backend"], r["status"], r["status"], r["status"],
-                    mark(s.get("real_time_factor"), TARGET_RTF) if r["status"] == "failed" else "**" + r["status"] + "**"))
+                rows.append([seq["name"], r["backend"]] + ["**%s**" % r["status"]] * 4)
                 continue
             cell = lambda v, tgt, d=2: "%s (%s)" % (mark(v, tgt), fmt(v, d))  # noqa: E731
-            rows.append("| %s | %s | %s | %s | %s | %s |" % (
-                seq["name"], r["backend"], cell(s.get("ate_perc"), TARGET_ATE_PERC),
-                cell(s.get("rte10_perc"), TARGET_RTE10_PERC, 1), cell(s.get("vel_rmse_perc"), TARGET_VEL_PERC, 1),
-                cell(s.get("real_time_factor"), TARGET_RTF)))  # fmt: skip
-    return "\n".join(rows)
+            rows.append([seq["name"], r["backend"], cell(s.get("ate_perc"), TARGET_ATE_PERC),
+                         cell(s.get("rte10_perc"), TARGET_RTE10_PERC, 1),
+                         cell(s.get("vel_rmse_perc"), TARGET_VEL_PERC, 1),
+                         cell(s.get("real_time_factor"), TARGET_RTF)])  # fmt: skip
+    return md_table(head, rows)
 
 
 def machine_description():
@@ -833,8 +836,13 @@ def main(argv=None):
 
     fig_dir = os.path.join(args.out, "figures")
     os.makedirs(fig_dir, exist_ok=True)
-    figures = [plot_runtime_over_time(seqs, results, fig_dir), plot_runtime_boxes(seqs, results, fig_dir),
-               plot_window_size(seqs, results, fig_dir), plot_trajectories(seqs, results, fig_dir)]  # fmt: skip
+    figures = [
+        plot_timing_series(seqs, results, fig_dir, "total_ms", "ms per update", "runtime_over_time.png", lw=0.6),
+        plot_runtime_boxes(seqs, results, fig_dir),
+        plot_timing_series(seqs, results, fig_dir, "window_knots", "knots in the problem", "window_size.png",
+                           lw=0.8, drawstyle="steps-post"),
+        plot_trajectories(seqs, results, fig_dir),
+    ]  # fmt: skip
     report, ratios = write_report(args, seqs, results, figures, machine, started, "figures/")
     with open(os.path.join(args.out, "results.md"), "w") as f:
         f.write(report)

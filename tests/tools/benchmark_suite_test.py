@@ -89,6 +89,13 @@ def units():
         check(abs(v["vel_rmse_perc"] - expect) < 1e-3, "10 %% too fast: %.4f %% vs %.4f %%" % (v["vel_rmse_perc"], expect))
         check(abs(v["omega_rmse_dps"] - np.degrees(0.01 * np.sqrt(3))) < 1e-3, "angular bias shows in the ω RMSE")
 
+    with tempfile.TemporaryDirectory(prefix="benchmark_suite_test_") as d:
+        path = os.path.join(d, "timing.csv")
+        with open(path, "w") as f:
+            f.write("t_s,window_knots,total_ms\n0.05,3,10.5\n0.10,4,12.5\n0.15,4")  # killed mid-line
+        tm = bs.load_timing(path)
+        check(tm is not None and list(tm["total_ms"]) == [10.5, 12.5], "a truncated last timing row is skipped")
+
     q = bs.quarter_medians(np.arange(8.0), np.array([1, 1, 2, 2, 3, 3, 4, 4.0]))
     check(q == [1.0, 2.0, 3.0, 4.0], "quarter medians %s" % q)
 
