@@ -145,6 +145,10 @@ void frontendBench(benchmark::State& state, const std::string& tracker) {
   FrontendConfig config;
   config.tracker = tracker;
   if (state.range(1) > 0) config.max_features = static_cast<int>(state.range(1));
+  if (state.range(2) == 0) {  // without the drift and rotation tests (for their cost)
+    config.max_drift_px = 0;
+    config.max_rotation_deg = 0;
+  }
   const CameraModel camera =
       readEcdCalibration(std::string(ASYNEVO_SOURCE_DIR) + "/tests/data/ecd/shapes_rotation/calib.txt");
   const auto table = camera.undistortionTable<float>();
@@ -168,23 +172,10 @@ void frontendBench(benchmark::State& state, const std::string& tracker) {
   state.counters["detect/ev"] = static_cast<double>(stats.detector_runs) / static_cast<double>(stats.events);
   state.counters["meas/s"] = stats.perSecond(stats.measurements);
   state.counters["created"] = static_cast<double>(stats.features_created);
-  state.counters["drop quality"] =
-      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kQuality)]);
-  state.counters["drop border"] =
-      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kBorder)]);
-  state.counters["drop idle"] =
-      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kIdle)]);
-  state.counters["drop collision"] =
-      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kCollision)]);
-  state.counters["created"] = static_cast<double>(stats.features_created);
-  state.counters["drop quality"] =
-      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kQuality)]);
-  state.counters["drop border"] =
-      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kBorder)]);
-  state.counters["drop idle"] =
-      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kIdle)]);
-  state.counters["drop collision"] =
-      static_cast<double>(stats.features_dropped[static_cast<int>(DropReason::kCollision)]);
+  for (DropReason reason : {DropReason::kQuality, DropReason::kDrift, DropReason::kRotation, DropReason::kBorder,
+                            DropReason::kIdle, DropReason::kCollision})
+    state.counters[std::string("drop ") + dropReasonName(reason)] =
+        static_cast<double>(stats.features_dropped[static_cast<int>(reason)]);
   state.counters["switch %"] =
       100.0 * static_cast<double>(stats.state_changes) / static_cast<double>(stats.tracker_updates);
   setCounters(state, events.size());
@@ -200,12 +191,14 @@ BENCHMARK(BM_SaeAndFaHarris)->DenseRange(0, 4)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_HasteDifferenceStar)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_HasteCorrelationStar)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FrontendDifferenceStar)
-    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6}, {0}})
-    ->Args({4, 100})
+    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6}, {0}, {1}})
+    ->Args({4, 100, 1})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrontendCorrelationStar)
-    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6}, {0}})
-    ->Args({4, 100})
+    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6}, {0}, {1}})
+    ->Args({4, 100, 1})
+    ->Args({5, 0, 0})
+    ->Args({6, 0, 0})
     ->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

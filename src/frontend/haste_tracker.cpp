@@ -118,25 +118,23 @@ float HasteTracker::windowAnisotropy() const {
   return static_cast<float>(std::max(0.0, small) / large);
 }
 
-double HasteTracker::matchScore(const Patch& tmpl, float x, float y, float theta) const {
-  Hypothesis h;
-  h.x = x;
-  h.y = y;
-  h.theta = theta;
-  h.c = std::cos(theta);
-  h.s = std::sin(theta);
-  double sum = 0;
-  for (int i = 0; i < count_; ++i) {
-    const WindowEvent& e = windowEvent(i);
-    float xp, yp;
-    toPatch(h, e.x, e.y, xp, yp);
-    sum += sample(tmpl, xp, yp);
+double HasteTracker::matchScore(const Patch& tmpl, float x, float y, float theta, int stride) const {
+  const float c = std::cos(theta), sn = std::sin(theta);
+  // The sum does not depend on the order: walk the ring buffer's storage directly (entries [0, count_)
+  // are the window both while initializing and once full).
+  float sum = 0.f;
+  for (int i = 0; i < count_; i += stride) {
+    const WindowEvent& e = window_[static_cast<std::size_t>(i)];
+    const float dx = e.x - x, dy = e.y - y;
+    sum += sample(tmpl, dx * c + dy * sn + float(kRadius), -dx * sn + dy * c + float(kRadius));
   }
-  return sum * kInvWindow;
+  return double(sum) * stride * kInvWindow;
 }
 
 float HasteTracker::firstTemplateDrift() {
   if (!initialized_) return 0.f;
+  // Every second window event: half the cost, and the simulated accuracy did not change measurably.
+  constexpr int kStride = 2;
   // Scores of visited offsets, so a hill-climbing step never evaluates one twice.
   constexpr int kReach = 6, kSide = 2 * kReach + 1, kTurns = 5;
   std::array<double, kSide * kSide * kTurns> cache;
@@ -145,31 +143,31 @@ float HasteTracker::firstTemplateDrift() {
     double& v = cache[((dth + kTurns / 2) * kSide + dy + kReach) * kSide + dx + kReach];
     if (std::isnan(v))
       v = matchScore(first_template_, state_.x + float(dx), state_.y + float(dy),
-                     state_.theta + float(dth) * kRotationStep);
+                     state_.theta + float(dth) * kRotationStep, kStride);
     return v;
   };
   int bx = std::clamp(drift_dx_, -kReach, kReach), by = std::clamp(drift_dy_, -kReach, kReach);
   int bth = std::clamp(drift_dth_, -kTurns / 2, kTurns / 2);
   double best = score(bx, by, bth);
+  // Steepest ascent over 10 neighbours (the 8 translations by 1 px, the 2 rotations by one step) until
+  // none is better. (The 26 of the full 3x3x3 cube cost 2.6x as much for no measurable gain.)
+  static constexpr int kSteps[10][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},   {0, -1, 0}, {1, 1, 0},
+                                        {1, -1, 0}, {-1, 1, 0}, {-1, -1, 0}, {0, 0, 1},  {0, 0, -1}};
   for (bool moved = true; moved;) {
     moved = false;
     const int cx = bx, cy = by, cth = bth;
-    for (int dth = -1; dth <= 1; ++dth)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int x = cx + dx, y = cy + dy, th = cth + dth;
-          if ((dx == 0 && dy == 0 && dth == 0) || std::abs(x) > kReach || std::abs(y) > kReach ||
-              std::abs(th) > kTurns / 2)
-            continue;
-          const double v = score(x, y, th);
-          if (v > best) {
-            best = v;
-            bx = x;
-            by = y;
-            bth = th;
-            moved = true;
-          }
-        }
+    for (const auto& step : kSteps) {
+      const int x = cx + step[0], y = cy + step[1], th = cth + step[2];
+      if (std::abs(x) > kReach || std::abs(y) > kReach || std::abs(th) > kTurns / 2) continue;
+      const double v = score(x, y, th);
+      if (v > best) {
+        best = v;
+        bx = x;
+        by = y;
+        bth = th;
+        moved = true;
+      }
+    }
   }
   drift_dx_ = bx;
   drift_dy_ = by;

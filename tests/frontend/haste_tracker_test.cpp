@@ -152,5 +152,60 @@ TEST(Haste, AnisotropySeparatesEdgesFromCorners) {
   EXPECT_GT(corner_tracker->windowAnisotropy(), 0.15f);
 }
 
+// The drift test's reference: the first window's normalized template, matched with the correlation score.
+TEST(Haste, FirstTemplateIsTheFirstWindowsAndMatchScoreIsTheCorrelationScore) {
+  HasteParams params;  // HasteCorrelation*, template updates on
+  auto tracker = makeHasteTracker(params);
+  MovingCorner corner{100.f, 80.f, 200.f, 100.f};
+  tracker->reset(0, 105.f, 85.f);
+  int64_t t = 0;
+  while (!tracker->initialized()) {
+    float x, y;
+    corner.next(t, x, y);
+    tracker->push(t, x, y);
+    t += 10'000;
+  }
+  EXPECT_EQ(tracker->firstTemplate(), tracker->normalizedTemplate());
+  for (int i = 0; i < 3000; ++i, t += 10'000) {
+    float x, y;
+    corner.next(t, x, y);
+    tracker->push(t, x, y);
+  }
+  EXPECT_GT(tracker->stateChanges(), 5u);  // it moved, and its current template is no longer the first
+  EXPECT_NE(tracker->firstTemplate(), tracker->normalizedTemplate());
+  const auto scratch = hasteScoresFromScratch(*tracker);
+  for (int h = 0; h < HasteTracker::kHypotheses; ++h) {
+    const Hypothesis& hy = tracker->hypotheses()[h];
+    EXPECT_NEAR(tracker->matchScore(tracker->normalizedTemplate(), hy.x, hy.y, hy.theta), scratch[h],
+                1e-5 * std::abs(scratch[h]));
+  }
+}
+
+// A tracker that cannot move (hysteresis 1: no switch is ever good enough) while its pattern, a compact
+// 7x7 px blot of events, jumps by (3, -2) px: its window now matches the first template that far from its
+// state, which the drift test must report; before the jump the drift is 0.
+TEST(Haste, FirstTemplateDriftMeasuresHowFarTheWindowIsFromTheState) {
+  HasteParams params;
+  params.hysteresis = 1.0;
+  auto tracker = makeHasteTracker(params);
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> cell(0, 6);
+  float bx = 98.f, by = 80.f;
+  tracker->reset(0, 101.f, 83.f);
+  int64_t t = 0;
+  auto feed = [&](int n) {
+    for (int i = 0; i < n; ++i, t += 10'000) tracker->push(t, bx + float(cell(rng)), by + float(cell(rng)));
+  };
+  feed(1000);
+  ASSERT_TRUE(tracker->initialized());
+  EXPECT_EQ(tracker->firstTemplateDrift(), 0.f);
+  bx += 3.f;
+  by -= 2.f;
+  feed(1000);
+  EXPECT_EQ(tracker->state().x, 101.f);  // it did not follow
+  EXPECT_EQ(tracker->state().y, 83.f);
+  EXPECT_NEAR(tracker->firstTemplateDrift(), std::hypot(3.f, 2.f), 0.01f);
+}
+
 }  // namespace
 }  // namespace asynevo::frontend

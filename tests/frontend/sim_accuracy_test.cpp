@@ -40,17 +40,27 @@ TEST(SimulatedAccuracy, CheckerboardSixDofMeetsTheTargets) {
   EXPECT_EQ(r.all.bad_tracks, 0) << "tracks with error > 5 px surviving > 20 ms";
 }
 
-// Boxes: cubes before a wall with a smooth multi-scale noise texture ("blobs"). The targets are MISSED
-// here (docs/frontend.md): HASTE slides along the soft blob contours, where a corner is not a point.
-// This test bounds the current figures so that they do not get worse; tighten it when the tracker or
-// its quality test improves.
-TEST(SimulatedAccuracy, BoxesSixDofStaysWithinTheMeasuredBounds) {
+// Boxes: cubes before a wall with a smooth multi-scale noise texture ("blobs"). The median target is met
+// since the drift and rotation tests; the bad-track target is still MISSED (docs/frontend.md): on the soft
+// blob contours the event pattern itself depends on the motion direction, so a tracker can slide with a
+// window that still matches its first template. This test bounds today's figures (0.81 px median, 12 bad
+// tracks of 157; before the drift test 1.09 px and 19 of 90) so that they do not get worse.
+TEST(SimulatedAccuracy, BoxesSixDofMeetsTheMedianAndBoundsTheBadTracks) {
   const sim::FeatureAccuracy r = run("boxes", "6dof", 0.6, 1);
-  ASSERT_GE(r.all.tracks, 50);
-  EXPECT_LE(r.all.median_px, 1.3);
-  EXPECT_LE(r.rigid.median_px, 1.2);
-  EXPECT_LE(r.all.bad_tracks, r.all.tracks / 4) << "tracks with error > 5 px surviving > 20 ms";
+  ASSERT_GE(r.all.tracks, 100);
+  EXPECT_LE(r.all.median_px, 1.0);
+  EXPECT_LE(r.rigid.median_px, 0.9);
+  EXPECT_LE(r.all.bad_tracks, r.all.tracks / 10) << "tracks with error > 5 px surviving > 20 ms";
   EXPECT_GT(r.depth_edge_tracks, 0);  // silhouettes against the wall are detected as such
+}
+
+// Poster: a photograph-like texture. Median target met; bad tracks bounded (3 of 110 measured; 2 s:
+// 7 of 233, before the drift test 24 of 151).
+TEST(SimulatedAccuracy, PosterSixDofMeetsTheMedianAndBoundsTheBadTracks) {
+  const sim::FeatureAccuracy r = run("poster", "6dof", 0.6, 1);
+  ASSERT_GE(r.all.tracks, 60);
+  EXPECT_LE(r.all.median_px, 1.0);
+  EXPECT_LE(r.all.bad_tracks, 5) << "tracks with error > 5 px surviving > 20 ms";
 }
 
 }  // namespace

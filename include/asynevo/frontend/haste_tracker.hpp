@@ -109,8 +109,9 @@ class HasteTracker {
   /// the tracker cannot pull along.
   const Patch& firstTemplate() const { return first_template_; }
   /// Mean bilinear sample of `tmpl` at the window events mapped into the patch under the pose
-  /// (x, y, theta): the HasteCorrelation score of that pose against that template.
-  double matchScore(const Patch& tmpl, float x, float y, float theta) const;
+  /// (x, y, theta): the HasteCorrelation score of that pose against that template. With stride k only
+  /// every k-th window event is sampled (the mean is scaled accordingly).
+  double matchScore(const Patch& tmpl, float x, float y, float theta, int stride = 1) const;
   /// Drift test against the first template: the pose of the best match of the current window to
   /// firstTemplate(), searched by hill climbing on the hypothesis grid (1 px, kRotationStep) from the
   /// previous check's offset; returns its translation from the current state in px. A tracker that slid
