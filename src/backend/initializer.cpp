@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <vector>
@@ -34,6 +35,22 @@ Correspondences correspondences(const TrackMap& tracks, int64_t t_a, int64_t t_b
     c.median_px = displacement[displacement.size() / 2];
   }
   return c;
+}
+
+/// Median over the RANSAC inliers of the angle between the ray at t_b and the ray at t_a rotated into
+/// camera b, in pixels (angle × focal): the image motion translation alone would cause.
+double medianParallaxPx(const Correspondences& c, const lie::Mat3& R_b_a, const cv::Mat& inlier_mask,
+                        double focal) {
+  std::vector<double> angles;
+  for (std::size_t i = 0; i < c.a.size(); ++i) {
+    if (!inlier_mask.empty() && inlier_mask.at<uchar>(static_cast<int>(i)) == 0) continue;
+    const lie::Vec3 ray_a = R_b_a * lie::Vec3(c.a[i].x, c.a[i].y, 1.0).normalized();
+    const lie::Vec3 ray_b = lie::Vec3(c.b[i].x, c.b[i].y, 1.0).normalized();
+    angles.push_back(std::atan2(ray_a.cross(ray_b).norm(), ray_a.dot(ray_b)));
+  }
+  if (angles.empty()) return 0.0;
+  std::nth_element(angles.begin(), angles.begin() + angles.size() / 2, angles.end());
+  return angles[angles.size() / 2] * focal;
 }
 
 }  // namespace
@@ -83,12 +100,21 @@ TwoViewResult initializeTwoView(const TrackMap& tracks, int64_t earliest_ns, int
       t_b_a(i) = t.at<double>(i);
       for (int j = 0; j < 3; ++j) R_b_a(i, j) = R.at<double>(i, j);
     }
+    // Only translation makes parallax: a mostly rotating camera moves the image a lot but leaves the
+    // baseline direction undetermined. Measure the motion that is left once the rotation is undone.
+    const double parallax = medianParallaxPx(c, R_b_a, inlier_mask, focal);
+    if (parallax < config.init_min_parallax_px) {
+      failures += fmt::format("{}: median parallax {:.1f} px once the rotation ({:.1f} deg) is removed (need {:.1f}); ",
+                              span, parallax, lie::so3::log(R_b_a).norm() * 180.0 / M_PI,
+                              config.init_min_parallax_px);
+      continue;
+    }
     result.ok = true;
     result.t_a_ns = t_a;
     result.T_a_b = lie::SE3(R_b_a, t_b_a.normalized()).inverse();
     result.features = n;
     result.inliers = inliers;
-    result.parallax_px = c.median_px;
+    result.parallax_px = parallax;
     return result;
   }
   result.failure = failures.empty() ? "not enough feature time span yet" : failures;

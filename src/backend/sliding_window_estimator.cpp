@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 
 #include "asynevo/backend/factors/gp_projection_factor.hpp"
 #include "asynevo/backend/factors/scale_anchor_factor.hpp"
@@ -44,6 +46,10 @@ SlidingWindowEstimator::~SlidingWindowEstimator() = default;
 
 void SlidingWindowEstimator::addMeasurement(const TrackMeasurement& m) {
   ++stats_.measurements_received;
+  if (rejected_features_.count(m.feature_id)) {
+    ++stats_.measurements_of_rejected_tracks;
+    return;
+  }
   if (stats_.initialized && m.t_ns < trajectory_.oldestTime()) {
     ++stats_.measurements_before_window;
     return;
@@ -83,7 +89,9 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   // Forget measurements too old to take part in any initialization window.
   const int64_t horizon = t_ns - std::llround(options_.config.init_window_ms * 1e6);
   for (auto it = tracks_.begin(); it != tracks_.end();) {
-    it->second.dropBefore(horizon);
+    // One knot interval of margin: a feature must have a measurement at or before the horizon to be
+    // interpolated there (FeatureTrack::pointAt).
+    it->second.dropBefore(horizon - knot_dt_ns_);
     it = it->second.observations.empty() ? tracks_.erase(it) : std::next(it);
   }
   // The second view lags event time by one knot interval: the newest measurements of most features are
@@ -424,19 +432,40 @@ void SlidingWindowEstimator::removeOutliers() {
   std::map<double*, BlockKind> kinds;
   std::vector<ProjectionSource> sources;
   buildFactors(factors, kinds, &sources);
-  const double limit = normalizedThreshold(options_.config.outlier_px) / normalizedThreshold(options_.config.pixel_sigma);
-  std::map<FeatureTrack*, std::vector<std::size_t>> bad;
+  // Residuals are whitened by pixel_sigma: thresholds in pixels divide by it.
+  const double limit = options_.config.outlier_px / options_.config.pixel_sigma;
+  const double track_limit = options_.config.track_outlier_rms_px / options_.config.pixel_sigma;
+  struct TrackResiduals {
+    std::vector<std::size_t> bad;  ///< observation indices beyond `limit`
+    double sum_squared = 0;
+    int count = 0;
+  };
+  std::map<FeatureTrack*, TrackResiduals> per_track;
   double residual[2];
   for (const ProjectionSource& source : sources) {
     const FactorEntry& f = factors[source.factor];
+    TrackResiduals& r = per_track[source.track];
     const bool ok = f.cost->Evaluate(f.blocks.data(), residual, nullptr);
-    if (!ok || std::hypot(residual[0], residual[1]) > limit) bad[source.track].push_back(source.observation);
+    const double norm = ok ? std::hypot(residual[0], residual[1]) : std::numeric_limits<double>::infinity();
+    if (norm > limit) r.bad.push_back(source.observation);
+    r.sum_squared += ok ? norm * norm : limit * limit;
+    ++r.count;
   }
-  for (auto& [track, indices] : bad) {
-    for (auto it = indices.rbegin(); it != indices.rend(); ++it) {
+  for (auto& [track, r] : per_track) {
+    // A landmark that does not fit as a whole is no fixed scene point (or its tracker drifted): its
+    // measurements bias every pose they touch, so the trajectory leaves the estimation for good.
+    if (track_limit > 0 && std::sqrt(r.sum_squared / r.count) > track_limit) {
+      rejected_features_.insert(track->id);
+      track->observations.clear();  // erased from tracks_ below
+      track->triangulated = false;
+      ++stats_.tracks_rejected;
+      continue;
+    }
+    for (auto it = r.bad.rbegin(); it != r.bad.rend(); ++it) {
       track->observations.erase(track->observations.begin() + static_cast<std::ptrdiff_t>(*it));
       ++stats_.outliers_removed;
     }
+    if (r.bad.empty()) continue;
     int inside = 0;
     for (const auto& o : track->observations) inside += trajectory_.covers(o.t_ns);
     if (inside < 2) {  // not enough left to constrain the landmark: back to an untriangulated trajectory
@@ -444,6 +473,9 @@ void SlidingWindowEstimator::removeOutliers() {
       track->observations_at_last_attempt = 0;
       ++stats_.landmarks_lost;
     }
+  }
+  for (auto it = tracks_.begin(); it != tracks_.end();) {
+    it = it->second.observations.empty() ? tracks_.erase(it) : std::next(it);
   }
 }
 

@@ -234,6 +234,8 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("observations_dropped_forced", e.observations_dropped_forced)
       .add("observations_dropped_untriangulated", e.observations_dropped_untriangulated)
       .add("outliers_removed", e.outliers_removed)
+      .add("tracks_rejected", e.tracks_rejected)
+      .add("measurements_of_rejected_tracks", e.measurements_of_rejected_tracks)
       .add("landmarks_lost", e.landmarks_lost)
       .add("scale_anchors", e.scale_anchors)
       .add("max_window_knots", e.max_window_knots)

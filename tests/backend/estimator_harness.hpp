@@ -62,7 +62,7 @@ inline Accuracy accuracy(const std::vector<backend::Knot>& knots) {
 inline backend::EstimatorOptions syntheticSceneOptions() {
   backend::EstimatorOptions options;
   options.focal_px = 200;
-  options.config.init_min_parallax_px = 8;  // the synthetic camera moves slowly
+  options.config.init_min_parallax_px = 5;  // the synthetic camera moves slowly (~5 px of parallax in 200 ms)
   return options;
 }
 

@@ -2,7 +2,8 @@
 // Monocular two-view initialization from feature trajectories (DESIGN.md §4 Initialization):
 // pick two times t_a < t_b with enough features seen at both and enough image motion, estimate the
 // relative pose with the five-point algorithm in RANSAC (OpenCV findEssentialMat/recoverPose; Nistér,
-// PAMI 2004), and fix the monocular scale by a unit baseline between the two times.
+// PAMI 2004), accept it only with enough parallax once the rotation is removed (the median inlier ray
+// angle), and fix the monocular scale by a unit baseline between the two times.
 
 #include <cstdint>
 #include <string>
@@ -21,7 +22,7 @@ struct TwoViewResult {
   lie::SE3 T_a_b;       ///< camera at t_b in the frame of the camera at t_a, |t| = 1
   int features = 0;     ///< features seen at both times
   int inliers = 0;
-  double parallax_px = 0;  ///< median image displacement between the two times
+  double parallax_px = 0;  ///< median inlier parallax (rotation removed) between the two times, pixels
 };
 
 /// Tries spans of init_window_ms, 2/3 and 1/3 of it, ending at t_b_ns (never before `earliest_ns`).

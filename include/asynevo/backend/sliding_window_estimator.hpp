@@ -71,6 +71,8 @@ class SlidingWindowEstimator : public Estimator {
   void triangulateTracks();
   void marginalizeDynamic();
   void renewScaleAnchor();
+  /// After a solve: rejects whole trajectories failing the RMS test, then single measurements beyond
+  /// outlier_px.
   void removeOutliers();
   void finalizeKnot(const Knot& knot);
   void finalizeLandmark(const FeatureTrack& track);
@@ -84,6 +86,7 @@ class SlidingWindowEstimator : public Estimator {
 
   Trajectory trajectory_;
   TrackMap tracks_;
+  std::set<int64_t> rejected_features_;  ///< trajectories rejected by the RMS test: later measurements ignored
   std::optional<FactorEntry> prior_;          ///< marginalization prior (on knots only)
   /// Gauge and scale anchors from initialization (a state prior on the first knot, a distance between
   /// two knots); each leaves for the marginalization prior with the first of its knots.

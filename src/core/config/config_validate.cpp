@@ -63,6 +63,7 @@ void BackendConfig::validate() const {
   requireRange("backend.pixel_sigma", pixel_sigma, 1e-3, 100.0);
   requireRange("backend.huber_px", huber_px, 1e-3, 1000.0);
   requireRange("backend.outlier_px", outlier_px, 1e-3, 1e6);
+  requireRange("backend.track_outlier_rms_px", track_outlier_rms_px, 0.0, 1e6);
   requireRange("backend.min_track_measurements", min_track_measurements, 2, 100000);
   requireRange("backend.min_parallax_deg", min_parallax_deg, 0.0, 90.0);
   requireRange("backend.max_triangulation_px", max_triangulation_px, 1e-3, 1e6);

@@ -17,6 +17,10 @@ struct BackendConfig {
   double pixel_sigma = 1.0;     ///< measurement standard deviation in pixels
   double huber_px = 2.0;        ///< Huber loss threshold in pixels
   double outlier_px = 5.0;      ///< after a solve, measurements with larger reprojection error are removed
+  /// After a solve, a landmark whose RMS reprojection error over its window measurements exceeds this
+  /// is removed and its feature ignored from then on (a corner that is no fixed scene point, e.g. a
+  /// T-junction at a depth discontinuity, or a drifting tracker). 0 disables.
+  double track_outlier_rms_px = 3.0;
 
   // --- triangulation of new trajectories ---
   int min_track_measurements = 5;      ///< measurements needed before a trajectory is triangulated
@@ -36,7 +40,9 @@ struct BackendConfig {
   int solver_threads = 1;       ///< Ceres threads; 1 keeps offline runs bit-for-bit deterministic
 
   // --- initialization ---
-  double init_min_parallax_px = 20.0;  ///< median feature displacement (in pixels, rotation not removed)
+  /// Median parallax of the two views in pixels (ray angle × focal): first the raw image motion, then,
+  /// after the five-point pose, the inliers' motion with the rotation removed.
+  double init_min_parallax_px = 10.0;
   int init_min_features = 30;          ///< features seen at both initialization times
   int init_min_inliers = 25;           ///< five-point RANSAC inliers
   double init_ransac_px = 1.0;         ///< RANSAC threshold in pixels
@@ -49,6 +55,8 @@ struct BackendConfig {
     v("pixel_sigma", pixel_sigma, "measurement standard deviation [px]");
     v("huber_px", huber_px, "Huber loss threshold on projection residuals [px]");
     v("outlier_px", outlier_px, "after each solve, drop measurements with a larger reprojection error [px]");
+    v("track_outlier_rms_px", track_outlier_rms_px,
+      "after each solve, reject a whole trajectory whose RMS reprojection error is larger [px] (0 = off)");
     v("min_track_measurements", min_track_measurements, "measurements before a trajectory is triangulated");
     v("min_parallax_deg", min_parallax_deg, "minimum ray angle to triangulate a trajectory [deg]");
     v("max_triangulation_px", max_triangulation_px, "maximum reprojection error of a new landmark [px]");
@@ -61,7 +69,8 @@ struct BackendConfig {
     v("max_iterations", max_iterations, "Levenberg-Marquardt iterations per window solve");
     v("max_solver_time_s", max_solver_time_s, "wall-time cap per window solve [s]");
     v("solver_threads", solver_threads, "Ceres threads (1 = deterministic)");
-    v("init_min_parallax_px", init_min_parallax_px, "initialization: median feature displacement [px]");
+    v("init_min_parallax_px", init_min_parallax_px,
+      "initialization: median parallax, raw and with the rotation removed [px]");
     v("init_min_features", init_min_features, "initialization: features seen at both times");
     v("init_min_inliers", init_min_inliers, "initialization: five-point RANSAC inliers");
     v("init_ransac_px", init_ransac_px, "initialization: RANSAC threshold [px]");

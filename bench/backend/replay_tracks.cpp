@@ -1,0 +1,166 @@
+// Backend replay: runs an estimator on the feature tracks a run recorded (its tracks.txt), without the
+// frontend, optionally with the measured positions replaced by their exact ground truth on a simulated
+// sequence ("oracle" tracks: same features, same lifetimes, same times, positions from the scene).
+// A diagnostic for docs/backend.md: it separates the error the frontend's tracks bring from the error
+// of the backend itself.
+//
+//   bench_replay_tracks RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental]
+//                       [--seed N]
+//
+// --oracle: positions of features on a fixed scene point replaced by their projection plus Gaussian
+// noise; features born on a depth discontinuity (no fixed 3D point) keep their measured positions.
+// --drop-edges: features born on a depth discontinuity, or whose point leaves the view, are skipped.
+//
+// RUN_DIR holds tracks.txt and config.yaml (from 'asynevo run'), DATASET_DIR the sequence (calib.txt;
+// for --oracle a folder written by 'asynevo simulate'). Measurements are fed in file order (the order
+// the backend took them); event time advances with the newest measurement time, in 1 ms steps. This is
+// close to, not identical with, the pipeline's marker sequence.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "asynevo/backend/incremental_estimator.hpp"
+#include "asynevo/backend/sliding_window_estimator.hpp"
+#include "asynevo/core/config/config.hpp"
+#include "asynevo/core/time.hpp"
+#include "asynevo/io/calibration_io.hpp"
+#include "asynevo/io/trajectory_io.hpp"
+#include "asynevo/sim/feature_ground_truth.hpp"
+
+using namespace asynevo;
+
+namespace {
+
+struct Args {
+  std::string run, dataset, out;
+  std::optional<double> oracle_noise_px;
+  bool drop_edges = false;
+  bool incremental = false;
+  unsigned seed = 1;
+};
+
+Args parse(int argc, char** argv) {
+  if (argc < 4) {
+    std::fprintf(stderr, "usage: %s RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental] [--seed N]\n",
+                 argv[0]);
+    std::exit(2);
+  }
+  Args a{argv[1], argv[2], argv[3], std::nullopt, false, false, 1};
+  for (int i = 4; i < argc; ++i) {
+    const std::string flag = argv[i];
+    if (flag == "--oracle" && i + 1 < argc) {
+      a.oracle_noise_px = std::stod(argv[++i]);
+    } else if (flag == "--drop-edges") {
+      a.drop_edges = true;
+    } else if (flag == "--incremental") {
+      a.incremental = true;
+    } else if (flag == "--seed" && i + 1 < argc) {
+      a.seed = static_cast<unsigned>(std::stoul(argv[++i]));
+    } else {
+      std::fprintf(stderr, "unknown argument '%s'\n", flag.c_str());
+      std::exit(2);
+    }
+  }
+  return a;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) try {
+  const Args args = parse(argc, argv);
+  const Config config = loadConfig(args.run + "/config.yaml");
+  const CameraModel camera = readCalibration(args.dataset + "/calib.txt", config.sensor.width, config.sensor.height);
+  std::optional<sim::FeatureGroundTruth> truth;
+  if (args.oracle_noise_px || args.drop_edges) truth.emplace(sim::loadSimulatedGroundTruth(args.dataset));
+
+  backend::EstimatorOptions options;
+  options.config = config.backend;
+  options.focal_px = 0.5 * (camera.fx() + camera.fy());
+  std::unique_ptr<backend::Estimator> estimator;
+  if (args.incremental) {
+    estimator = std::make_unique<backend::IncrementalEstimator>(options, backend::IncrementalOptions{});
+  } else {
+    estimator = std::make_unique<backend::SlidingWindowEstimator>(options);
+  }
+
+  std::ifstream in(args.run + "/tracks.txt");
+  if (!in) throw std::runtime_error(args.run + "/tracks.txt: cannot open");
+  std::mt19937 rng(args.seed);
+  std::normal_distribution<double> noise(0.0, args.oracle_noise_px.value_or(0.0));
+  std::map<int64_t, sim::FeatureGroundTruth::Anchor> anchors;
+  int64_t marker = 0;
+  std::string last_failure;
+  uint64_t fed = 0, skipped = 0;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    int64_t id = 0;
+    std::string t_text;
+    double x = 0, y = 0;
+    fields >> id >> t_text >> x >> y;
+    TrackMeasurement m;
+    m.feature_id = id;
+    const auto t_ns = parseSecondsToNs(t_text);
+    if (!t_ns) throw std::runtime_error(fmt::format("{}/tracks.txt: bad time '{}'", args.run, t_text));
+    m.t_ns = *t_ns;
+    Eigen::Vector2d pixel(x, y);
+    if (truth) {
+      auto anchor = anchors.find(id);
+      if (anchor == anchors.end()) anchor = anchors.emplace(id, truth->anchor(m.t_ns, pixel)).first;
+      const auto projection = anchor->second.valid ? truth->project(anchor->second.p_w, m.t_ns)
+                                                   : sim::FeatureGroundTruth::Projection{};
+      const bool fixed_point = projection.valid && !anchor->second.depth_edge;
+      if (!fixed_point && args.drop_edges) {
+        ++skipped;
+        continue;
+      }
+      if (fixed_point && args.oracle_noise_px) pixel = projection.pixel + Eigen::Vector2d(noise(rng), noise(rng));
+    }
+    const auto xn = camera.unproject(pixel);
+    if (!xn) {
+      ++skipped;
+      continue;
+    }
+    m.x = static_cast<float>(pixel.x());
+    m.y = static_cast<float>(pixel.y());
+    m.xn = static_cast<float>(xn->x());
+    m.yn = static_cast<float>(xn->y());
+    const int64_t ms = m.t_ns / 1'000'000 * 1'000'000;
+    if (ms > marker) {
+      marker = ms;
+      estimator->advanceTo(marker);
+      const auto& st = estimator->stats();
+      if (!st.initialized && st.init_last_failure != last_failure) {
+        last_failure = st.init_last_failure;
+        fmt::print("{:.3f} s: {}\n", marker * 1e-9, last_failure);
+      }
+    }
+    estimator->addMeasurement(m);
+    ++fed;
+  }
+  estimator->finish();
+  StampedTrajectory trajectory;
+  for (const backend::Knot& k : estimator->takeFinalKnots()) {
+    const lie::SE3 T = k.T_w_c();
+    trajectory.push_back({k.t_ns, T.translation(), Eigen::Quaterniond(T.rotation())});
+  }
+  std::sort(trajectory.begin(), trajectory.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
+  writeTumTrajectory(args.out, trajectory);
+  const auto stats = estimator->stats();
+  fmt::print("{}: fed {} measurements ({} skipped), {} knots, initialized {} at {:.3f} s\n", estimator->name(),
+             fed, skipped, trajectory.size(), stats.initialized, stats.initialized_at_ns * 1e-9);
+  return 0;
+} catch (const std::exception& e) {
+  std::fprintf(stderr, "error: %s\n", e.what());
+  return 1;
+}
