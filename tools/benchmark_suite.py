@@ -40,20 +40,12 @@ import time
 TOOLS_DIR = os.path.dirname(os.path.abspath(__file__))
 REPO_DIR = os.path.dirname(TOOLS_DIR)
 
-try:
-    import numpy as np
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-except ImportError as e:  # pragma: no cover - depends on the machine
-    sys.exit(
-        "benchmark_suite.py: %s. Install Debian's python3-matplotlib and python3-numpy "
-        "(scripts/setup.sh) and run with /usr/bin/python3." % e
-    )
-
 sys.path.insert(0, TOOLS_DIR)
+# plot_run selects matplotlib's Agg backend, and exits with an installation hint when Debian's
+# python3-numpy / python3-matplotlib are missing.
 from plot_run import load_table, quat_to_rot, rot_log  # noqa: E402
+import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt  # noqa: E402
 
 BEGIN_MARKER = "<!-- results:begin -->"
 END_MARKER = "<!-- results:end -->"
