@@ -284,7 +284,7 @@ std::pair<int, double> SlidingWindowEstimator::solve(int max_iterations) {
   // ParameterBlockOrdering keeps its groups as sets of pointers, i.e. in heap-address order, which
   // would make the floating-point result depend on where the allocator put the blocks.
   ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_SCHUR;
+  solver_options.linear_solver_type = options_.sparse_linear_solver ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR;
   solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   solver_options.max_num_iterations = max_iterations;
   solver_options.num_threads = options_.config.solver_threads;

@@ -27,6 +27,9 @@ struct EstimatorOptions {
   double focal_px = 200.0;  ///< mean focal length: converts pixel thresholds to normalized units
   bool real_time = false;   ///< enables the solver's wall-time cap (non-deterministic)
   bool marginalize = true;  ///< false: keep the whole history (the incremental baseline's mode)
+  /// Sparse Schur complement (SuiteSparse) instead of the dense one: the full-history smoother's
+  /// reduced camera matrix is banded and grows with the history, where dense elimination is cubic.
+  bool sparse_linear_solver = false;
 };
 
 class SlidingWindowEstimator : public Estimator {
