@@ -41,34 +41,56 @@ void HasteTracker::reset(int64_t t_ns, float x, float y, float theta) {
   scores_.fill(0.0);
 }
 
-void HasteTracker::splat(Patch& p, float xp, float yp, float weight) {
-  int base;
-  float w[4];
-  if (!stencil(xp, yp, base, w)) return;
-  for (int k = 0; k < 4; ++k) p[base + kStencilOffset[k]] += weight * w[k];
-}
+namespace {
+// Hypotheses as offsets from the state: (x px, y px, rotation steps); the 9 translations come first.
+constexpr int kOffsets[HasteTracker::kHypotheses][3] = {{0, 0, 0},  {1, 0, 0},   {-1, 0, 0}, {0, 1, 0},
+                                                        {0, -1, 0}, {1, 1, 0},   {1, -1, 0}, {-1, 1, 0},
+                                                        {-1, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+}  // namespace
 
-float HasteTracker::sample(const Patch& p, float xp, float yp) {
-  int base;
-  float w[4];
-  if (!stencil(xp, yp, base, w)) return 0.f;
-  float v = 0.f;
-  for (int k = 0; k < 4; ++k) v += w[k] * p[base + kStencilOffset[k]];
-  return v;
+void HasteTracker::sampleHypotheses(const Patch& tmpl, float ex, float ey, float* out) const {
+  if (!axis_aligned_) {
+    alignas(32) float xp[kPadded], yp[kPadded];
+    patchCoordinates(ex, ey, xp, yp);
+    for (int h = 0; h < kHypotheses; ++h) out[h] = sample(tmpl, xp[h], yp[h]);
+    out[kHypotheses] = 0.f;
+    return;
+  }
+  // Angle 0: hypothesis (ox, oy) maps the point to (xp - ox, yp - oy): same fractions, cells shifted.
+  const float xp = ex - state_.x + float(kRadius), yp = ey - state_.y + float(kRadius);
+  int x0 = static_cast<int>(xp), y0 = static_cast<int>(yp);
+  x0 -= xp < float(x0) ? 1 : 0;  // floor (window events can lie just outside the patch after a switch)
+  y0 -= yp < float(y0) ? 1 : 0;
+  const float fx = xp - float(x0), fy = yp - float(y0);
+  const float w0 = (1.f - fx) * (1.f - fy), w1 = fx * (1.f - fy), w2 = (1.f - fx) * fy, w3 = fx * fy;
+  for (int h = 0; h < kTranslations; ++h) {
+    const int xh = x0 - kOffsets[h][0], yh = y0 - kOffsets[h][1];
+    // Same condition as stencil(): 0 <= xh + fx < kPatchSize - 1 with 0 <= fx < 1.
+    if (static_cast<unsigned>(xh) > unsigned(kPatchSize - 2) || static_cast<unsigned>(yh) > unsigned(kPatchSize - 2)) {
+      out[h] = 0.f;
+      continue;
+    }
+    const float* t = &tmpl[static_cast<std::size_t>(yh * kPatchSize + xh)];
+    out[h] = w0 * t[0] + w1 * t[1] + w2 * t[kPatchSize] + w3 * t[kPatchSize + 1];
+  }
+  for (int h = kTranslations; h < kHypotheses; ++h) {
+    float xh, yh;
+    toPatch(hyps_[h], ex, ey, xh, yh);
+    out[h] = sample(tmpl, xh, yh);
+  }
+  out[kHypotheses] = 0.f;
 }
 
 void HasteTracker::generateHypotheses() {
-  static constexpr float kOffsets[kHypotheses][3] = {{0, 0, 0},   {1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
-                                                     {0, -1, 0},  {1, 1, 0}, {1, -1, 0}, {-1, 1, 0},
-                                                     {-1, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   for (int h = 0; h < kHypotheses; ++h) {
     Hypothesis& hy = hyps_[h];
-    hy.x = state_.x + kOffsets[h][0];
-    hy.y = state_.y + kOffsets[h][1];
-    hy.theta = wrapAngle(state_.theta + kOffsets[h][2] * kRotationStep);
+    hy.x = state_.x + float(kOffsets[h][0]);
+    hy.y = state_.y + float(kOffsets[h][1]);
+    hy.theta = wrapAngle(state_.theta + float(kOffsets[h][2]) * kRotationStep);
     hy.c = std::cos(hy.theta);
     hy.s = std::sin(hy.theta);
   }
+  axis_aligned_ = state_.theta == 0.f;
   for (int h = 0; h < kPadded; ++h) {
     const Hypothesis& hy = hyps_[h < kHypotheses ? h : 0];
     hx_[h] = hy.x;
@@ -306,22 +328,21 @@ HasteCorrelationStar::HasteCorrelationStar(const HasteParams& params) : HasteTra
 
 void HasteCorrelationStar::rebuildScores() {
   std::array<double, kHypotheses> sums{};
-  alignas(32) float xp[kPadded], yp[kPadded];
+  alignas(32) float v[kPadded];
+  // The window's storage order does not matter for the sums (entries [0, count_) are the window).
   for (int i = 0; i < count_; ++i) {
-    const WindowEvent& e = windowEvent(i);
-    patchCoordinates(e.x, e.y, xp, yp);
-    for (int h = 0; h < kHypotheses; ++h) sums[h] += sample(normalized_, xp[h], yp[h]);
+    const WindowEvent& e = window_[static_cast<std::size_t>(i)];
+    sampleHypotheses(normalized_, e.x, e.y, v);
+    for (int h = 0; h < kHypotheses; ++h) sums[h] += v[h];
   }
   for (int h = 0; h < kHypotheses; ++h) scores_[h] = sums[h] * kInvWindow;
 }
 
 void HasteCorrelationStar::updateScores(const WindowEvent& added, const WindowEvent& evicted) {
-  alignas(32) float xa[kPadded], ya[kPadded], xe[kPadded], ye[kPadded];
-  patchCoordinates(added.x, added.y, xa, ya);
-  patchCoordinates(evicted.x, evicted.y, xe, ye);
-  for (int h = 0; h < kHypotheses; ++h)
-    scores_[h] +=
-        (double(sample(normalized_, xa[h], ya[h])) - double(sample(normalized_, xe[h], ye[h]))) * kInvWindow;
+  alignas(32) float va[kPadded], ve[kPadded];
+  sampleHypotheses(normalized_, added.x, added.y, va);
+  sampleHypotheses(normalized_, evicted.x, evicted.y, ve);
+  for (int h = 0; h < kHypotheses; ++h) scores_[h] += (double(va[h]) - double(ve[h])) * kInvWindow;
 }
 
 std::unique_ptr<HasteTracker> makeHasteTracker(const HasteParams& params) {

@@ -12,10 +12,8 @@ SurfaceOfActiveEvents::SurfaceOfActiveEvents(int width, int height, int64_t refr
 
 void SurfaceOfActiveEvents::clear() {
   const std::size_t n = static_cast<std::size_t>(width_) * height_;
-  for (int p = 0; p < 2; ++p) {
-    sae_[p].assign(n, kNever);
-    latest_[p].assign(n, kNever);
-  }
+  for (int p = 0; p < 2; ++p) sae_[p].assign(n, kNever);
+  latest_.assign(2 * n, kNever);
 }
 
 }  // namespace asynevo::frontend

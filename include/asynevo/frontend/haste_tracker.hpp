@@ -146,8 +146,25 @@ class HasteTracker {
     w[3] = fx * fy;
     return true;
   }
-  static void splat(Patch& p, float xp, float yp, float weight);
-  static float sample(const Patch& p, float xp, float yp);
+  static void splat(Patch& p, float xp, float yp, float weight) {
+    int base;
+    float w[4];
+    if (!stencil(xp, yp, base, w)) return;
+    p[base] += weight * w[0];
+    p[base + 1] += weight * w[1];
+    p[base + kPatchSize] += weight * w[2];
+    p[base + kPatchSize + 1] += weight * w[3];
+  }
+  static float sample(const Patch& p, float xp, float yp) {
+    int base;
+    float w[4];
+    if (!stencil(xp, yp, base, w)) return 0.f;
+    return w[0] * p[base] + w[1] * p[base + 1] + w[2] * p[base + kPatchSize] + w[3] * p[base + kPatchSize + 1];
+  }
+  /// sample(tmpl, ...) at an image point under each of the 11 hypotheses (out[h]; out[11] is padding).
+  /// While the state angle is 0 the 9 translations differ from the identity by whole patch cells, so
+  /// one bilinear stencil serves all 9 (same values as 9 calls of sample()).
+  void sampleHypotheses(const Patch& tmpl, float ex, float ey, float* out) const;
 
  protected:
   /// Recomputes every score from the current window and normalized template.
@@ -164,10 +181,12 @@ class HasteTracker {
     }
   }
   static constexpr int kPadded = 12;  ///< hypotheses padded for SIMD
+  static constexpr int kTranslations = 9;  ///< hypotheses 0..8: identity and the 8 one-pixel shifts
 
   std::array<Hypothesis, kHypotheses> hyps_{};
   alignas(32) float hx_[kPadded] = {}, hy_[kPadded] = {}, hc_[kPadded] = {}, hs_[kPadded] = {};
   std::array<double, kHypotheses> scores_{};
+  bool axis_aligned_ = true;  ///< state angle exactly 0 (sampleHypotheses' shared-stencil path)
   Patch normalized_{};
   std::vector<WindowEvent> window_;  ///< ring buffer of kWindow events, allocated once
   int head_ = 0;                     ///< index of the oldest event

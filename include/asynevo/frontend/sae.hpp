@@ -2,9 +2,11 @@
 // Surface of Active Events (SAE) with the refractory ("redundant spike") filter of Arc* and
 // FA-Harris (Alzugaray & Chli, RA-L 2018; Li et al., IROS 2019; shared/reference/frontend.md §2).
 //
-// Per polarity p two W x H maps of int64 ns timestamps, row-major (index y * W + x):
-//  - latest(p): time of the latest event of polarity p at the pixel, whether filtered or not;
-//  - sae(p): time of the latest event of polarity p that passed the filter (FA-Harris' "G-SAE").
+// Per polarity p two W x H maps of int64 ns timestamps (pixel index y * W + x):
+//  - latestAt(p, x, y): time of the latest event of polarity p at the pixel, whether filtered or not
+//    (both polarities of a pixel stored side by side: the filter reads both, one cache line per event);
+//  - sae(p): time of the latest event of polarity p that passed the filter (FA-Harris' "G-SAE"),
+//    row-major per polarity (the detectors read its neighbourhoods).
 // An event (t, x, y, p) passes iff t > latest_p + dt_f or latest_q > latest_p (q = other polarity:
 // the pixel flipped polarity since). Both maps start at kNever, a sentinel far below any event time,
 // so time may start at 0 (the references initialise with 0 and then drop the first 50 ms).
@@ -30,8 +32,9 @@ class SurfaceOfActiveEvents {
   bool update(const Event& e) {
     const int p = polarityIndex(e);
     const std::size_t i = index(e.x, e.y);
-    int64_t& latest_p = latest_[p][i];
-    const bool accept = e.t_ns > latest_p + refractory_ns_ || latest_[1 - p][i] > latest_p;
+    int64_t* latest = &latest_[2 * i];
+    int64_t& latest_p = latest[p];
+    const bool accept = e.t_ns > latest_p + refractory_ns_ || latest[1 - p] > latest_p;
     latest_p = e.t_ns;
     if (accept) sae_[p][i] = e.t_ns;
     return accept;
@@ -43,9 +46,8 @@ class SurfaceOfActiveEvents {
   std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * width_ + x; }
   /// Filtered SAE of polarity channel p (0 = OFF, 1 = ON), row-major.
   const int64_t* sae(int p) const { return sae_[p].data(); }
-  const int64_t* latest(int p) const { return latest_[p].data(); }
   int64_t saeAt(int p, int x, int y) const { return sae_[p][index(x, y)]; }
-  int64_t latestAt(int p, int x, int y) const { return latest_[p][index(x, y)]; }
+  int64_t latestAt(int p, int x, int y) const { return latest_[2 * index(x, y) + p]; }
   void clear();
 
  private:
@@ -53,7 +55,7 @@ class SurfaceOfActiveEvents {
   int height_;
   int64_t refractory_ns_;
   std::vector<int64_t> sae_[2];
-  std::vector<int64_t> latest_[2];
+  std::vector<int64_t> latest_;  ///< [pixel][polarity]
 };
 
 }  // namespace asynevo::frontend
