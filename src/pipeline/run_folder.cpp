@@ -52,6 +52,7 @@ RunFolderWriter::RunFolderWriter(const std::string& dir) : dir_(dir) {
   fmt::print(timing_, "{}\n", kTimingCsvHeader);
   std::fflush(traj_);
   std::fflush(velocities_);
+  std::fflush(timing_);
 }
 
 RunFolderWriter::~RunFolderWriter() {
@@ -103,6 +104,9 @@ void RunFolderWriter::onUpdateRecords(const std::vector<backend::UpdateRecord>& 
     total_ms_.push_back(r.total_ms);
     max_window_knots_ = std::max(max_window_knots_, r.window_knots);
   }
+  // Flushed per batch (one or a few rows per backend update, each taking milliseconds or more): a run
+  // that is killed (a benchmark's time limit) keeps every complete row it produced.
+  std::fflush(timing_);
 }
 
 void RunFolderWriter::onLandmarks(const std::vector<backend::LandmarkPoint>& landmarks) {

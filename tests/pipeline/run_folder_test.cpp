@@ -77,6 +77,27 @@ TEST(RunFolderWriter, WritesTrajectoryVelocitiesTracksTimingAndLandmarksThatRead
   EXPECT_NE(ply.find("end_header\n1 2 3 9 1\n-1 0.5 4 5 2\n"), std::string::npos);
 }
 
+TEST(RunFolderWriter, TimingRowsAreOnDiskBeforeClose) {
+  // A run stopped by a time limit (killed, close() never called) must keep its timing rows.
+  const asynevo::testing::TempDir dir;
+  RunFolderWriter writer(dir.file("run"));
+  backend::UpdateRecord r;
+  r.event_t_ns = 2'000'000'000;
+  r.window_knots = 5;
+  r.total_ms = 7.25;
+  writer.onUpdateRecords({r});
+  r.event_t_ns = 2'050'000'000;
+  r.total_ms = 9.5;
+  writer.onUpdateRecords({r});
+  const std::string csv = readFile(writer.path("timing.csv"));
+  EXPECT_EQ(csv.rfind(std::string(kTimingCsvHeader) + "\n", 0), 0u);
+  EXPECT_NE(csv.find("\n2.050000000,5,"), std::string::npos);
+  EXPECT_EQ(csv.back(), '\n');  // complete rows only
+  const eval::TimingStats timing = eval::readTimingStats(writer.path("timing.csv"));
+  EXPECT_EQ(timing.updates, 2u);
+  writer.close();
+}
+
 TEST(RunFolderWriter, ReportsAFolderItCannotCreate) {
   const asynevo::testing::TempDir dir;
   const std::string file = dir.write("plain_file", "x");

@@ -1,7 +1,8 @@
 #pragma once
 // Writes a run folder (DESIGN.md §1; formats in docs/pipeline.md §Run folder). The streaming files are
-// written as the pipeline produces them and flushed after every batch of final knots, so a run that
-// stops early leaves valid partial files:
+// written as the pipeline produces them; the trajectory and velocities are flushed after every batch of
+// final knots and timing.csv after every batch of update records, so a run that stops early (or is
+// killed) leaves valid partial files (tracks.txt is buffered and may lose its last lines):
 //
 //   stamped_traj_estimate.txt  TUM "t tx ty tz qx qy qz qw", one line per final knot (T_w_c)
 //   velocities.txt             "t vx vy vz wx wy wz", body-frame twist per final knot
