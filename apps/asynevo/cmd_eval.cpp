@@ -1,5 +1,6 @@
 // 'asynevo eval': evaluate an estimated trajectory against ground truth (DESIGN.md §1, §6) with
-// rpg_trajectory_evaluation's definitions; writes DIR/eval.json and rpg-style YAML files.
+// rpg_trajectory_evaluation's definitions, plus the body-velocity error when the estimate's twists are
+// known; writes DIR/eval.json and rpg-style YAML files.
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -16,7 +17,7 @@
 namespace asynevo::cli {
 
 void addEvalCommand(CLI::App& app) {
-  static std::string gt, est, align = "sim3", out;
+  static std::string gt, est, align = "sim3", out, velocities;
   static int align_frames = -1;
   static std::vector<double> rel_lengths;
   auto* cmd = app.add_subcommand("eval", "Evaluate an estimated trajectory against ground truth");
@@ -29,13 +30,19 @@ void addEvalCommand(CLI::App& app) {
                   "relative-error sub-trajectory lengths in metres (default: 10,20,30,40,50 % of the "
                   "ground-truth path length)")
       ->delimiter(',');
+  cmd->add_option("--velocities", velocities,
+                  "estimated body-frame twists (t vx vy vz wx wy wz) for the velocity error (default: "
+                  "velocities.txt beside --est when it exists; 'none' skips it)");
   cmd->add_option("--out", out, "folder for eval.json")->required();
   cmd->callback([] {
     eval::EvalOptions options;
     options.align = *eval::parseAlignType(align);
     options.align_frames = align_frames;
     options.rel_lengths_m = rel_lengths;
-    const eval::EvalResult result = eval::evaluateFiles(gt, est, options);
+    const std::string twists = velocities == "none" ? std::string()
+                               : velocities.empty() ? eval::velocitiesBesideEstimate(est)
+                                                    : velocities;
+    const eval::EvalResult result = eval::evaluateFiles(gt, est, options, twists);
 
     // A run folder's timing.csv, if the output folder is one.
     std::optional<eval::TimingStats> timing;

@@ -158,14 +158,38 @@ EvalResult evaluate(const StampedTrajectory& gt, const StampedTrajectory& est, c
   return r;
 }
 
-EvalResult evaluateFiles(const std::string& gt_path, const std::string& est_path,
-                         const EvalOptions& options) {
+void addVelocityErrors(EvalResult& result, const StampedTrajectory& gt,
+                       const std::vector<StampedTwist>& twists, const EvalOptions& options,
+                       const std::string& source) {
+  result.velocity = computeVelocityErrors(gt, twists, result.alignment.scale, options.velocity_max_gt_gap_ns);
+  const VelocityErrors& v = *result.velocity;
+  if (v.samples == 0) {
+    result.warnings.push_back(fmt::format(
+        "{}: none of the {} twists has a ground-truth velocity (outside the ground truth's time span, or "
+        "its poses are more than {} s apart there): no velocity error",
+        source, v.est_twists, nsToSeconds(options.velocity_max_gt_gap_ns)));
+  } else if (v.samples < v.est_twists) {
+    result.warnings.push_back(fmt::format(
+        "{}: {} of {} twists have no ground-truth velocity (outside its time span or across a "
+        "gap > {} s) and are ignored",
+        source, v.est_twists - v.samples, v.est_twists, nsToSeconds(options.velocity_max_gt_gap_ns)));
+  }
+}
+
+EvalResult evaluateFiles(const std::string& gt_path, const std::string& est_path, const EvalOptions& options,
+                         const std::string& velocities_path) {
   TrajectoryReadReport gt_report, est_report;
   const StampedTrajectory gt = readTumTrajectory(gt_path, &gt_report);
   const StampedTrajectory est = readTumTrajectory(est_path, &est_report);
+  const std::vector<StampedTwist> twists =
+      velocities_path.empty() ? std::vector<StampedTwist>{} : readVelocities(velocities_path);
   EvalResult result;
   try {
     result = evaluate(gt, est, options);
+    if (!velocities_path.empty()) {
+      addVelocityErrors(result, gt, twists, options, velocities_path);
+      result.velocities_path = velocities_path;
+    }
   } catch (const EvalError& e) {
     throw EvalError(fmt::format("{} vs {}: {}", est_path, gt_path, e.what()));
   }

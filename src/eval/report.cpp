@@ -106,6 +106,19 @@ std::string evalJson(const EvalResult& r, const ReportInputs& inputs) {
   j += r.relative.empty() ? "],\n" : "\n    ],\n";
   j += fmt::format("    \"pooled\": {{\"trans_m\": {}, \"trans_perc\": {}, \"rot_deg\": {}}}\n  }},\n",
                    statsJson(r.pooled_trans), statsJson(r.pooled_trans_perc), statsJson(r.pooled_rot));
+  if (r.velocity) {
+    const VelocityErrors& v = *r.velocity;
+    j += fmt::format(
+        "  \"velocity\": {{\"file\": {}, \"definition\": {},\n    \"scale_applied\": {}, \"est_twists\": {}, "
+        "\"samples\": {},\n    \"linear_mps\": {},\n    \"angular_dps\": {},\n    \"mean_gt_speed_mps\": {}, "
+        "\"mean_gt_rate_dps\": {}, \"linear_rmse_perc_of_mean_speed\": {}, "
+        "\"angular_rmse_perc_of_mean_rate\": {}}},\n",
+        quoted(r.velocities_path),
+        quoted("body-frame twist; linear part times the alignment scale vs R_gt^T dp_gt/dt (central "
+               "differences of the ground-truth poses, interpolated at the twist times; docs/evaluation.md)"),
+        num(v.scale), v.est_twists, v.samples, statsJson(v.linear_mps), statsJson(v.angular_dps),
+        num(v.mean_gt_speed_mps), num(v.mean_gt_rate_dps), num(v.linear_rmse_perc), num(v.angular_rmse_perc));
+  }
   if (inputs.timing) {
     const TimingStats& t = *inputs.timing;
     j += fmt::format(
@@ -184,6 +197,17 @@ std::string summaryTable(const EvalResult& r, const TimingStats* timing) {
     s +=
         fmt::format("  {:>9} {:8} {:11.4f} {:11.4f} {:10.3f} {:9.3f}\n", "pooled", r.pooled_trans.num_samples,
                     r.pooled_trans.rmse, r.pooled_trans.median, r.pooled_trans_perc.mean, r.pooled_rot.mean);
+  }
+  if (r.velocity && r.velocity->samples > 0) {
+    const VelocityErrors& v = *r.velocity;
+    s += fmt::format("body velocity ({} of {} twists; linear part times the scale {:.6f}):\n", v.samples,
+                     v.est_twists, v.scale);
+    s += formatStatsRow("linear", v.linear_mps, 1.0, "m/s");
+    s += formatStatsRow("angular", v.angular_dps, 1.0, "deg/s");
+    s += fmt::format(
+        "  {:<18} linear {:.2f} % of the mean ground-truth speed ({:.4f} m/s), angular {:.2f} % of "
+        "the mean rate ({:.3f} deg/s)\n",
+        "rmse / mean", v.linear_rmse_perc, v.mean_gt_speed_mps, v.angular_rmse_perc, v.mean_gt_rate_dps);
   }
   if (timing) {
     s += fmt::format("backend: {} updates", timing->updates);

@@ -52,7 +52,7 @@ class EvalCli : public ::testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     // A run folder: ground truth at 100 Hz, the estimate at 50 Hz = ground truth scaled by 2, rotated
-    // and moved (Sim(3) error 0), velocities, timing and tracks.
+    // and moved (Sim(3) error 0), its exact body twists (linear part in the 2× map), timing and tracks.
     const StampedTrajectory gt = test::helix(800, 10'000'000);
     StampedTrajectory est;
     for (std::size_t i = 0; i < gt.size(); i += 2) est.push_back(gt[i]);
@@ -61,8 +61,11 @@ class EvalCli : public ::testing::Test {
     writeTumTrajectory((dir_ / "stamped_groundtruth.txt").string(), gt);
     writeTumTrajectory((dir_ / "stamped_traj_estimate.txt").string(), est);
     std::vector<StampedTwist> twists;
-    for (const auto& pose : est)
-      twists.push_back({pose.t_ns, Eigen::Vector3d(0.5, 0, 0.1), Eigen::Vector3d(0, 0, 1)});
+    for (const auto& pose : est) {
+      StampedTwist twist = test::helixTwist(pose.t_ns);
+      twist.v_c *= 2.0;
+      twists.push_back(twist);
+    }
     writeVelocities((dir_ / "velocities.txt").string(), twists);
     std::ofstream timing(dir_ / "timing.csv");
     timing << "t_s,window_size,solve_ms,marginalize_ms,total_ms\n";
@@ -90,7 +93,19 @@ TEST_F(EvalCli, EvalWritesJsonYamlAndTable) {
   EXPECT_NE(out.text.find("associated 400 of 400 estimate poses"), std::string::npos) << out.text;
   EXPECT_NE(out.text.find("scale 0.500000"), std::string::npos) << out.text;
   EXPECT_NE(out.text.find("backend: 40 updates"), std::string::npos) << out.text;
+  // velocities.txt beside the estimate is evaluated: the twist at 0 s (the first ground-truth pose)
+  // has no central difference.
+  EXPECT_NE(out.text.find("body velocity (399 of 400 twists; linear part times the scale 0.500000)"),
+            std::string::npos)
+      << out.text;
   const std::string json = slurp(dir_ / "eval.json");
+  EXPECT_NE(json.find("\"velocity\": {\"file\": \"" + path("velocities.txt") + "\""), std::string::npos);
+  EXPECT_NE(json.find("\"est_twists\": 400, \"samples\": 399"), std::string::npos) << json;
+  const EvalResult direct = evaluateFiles(path("stamped_groundtruth.txt"), path("stamped_traj_estimate.txt"),
+                                          EvalOptions{}, path("velocities.txt"));
+  ASSERT_TRUE(direct.velocity.has_value());
+  EXPECT_LT(direct.velocity->linear_mps.max, 1e-3);  // exact twists; ±10 ms central differences
+  EXPECT_LT(direct.velocity->linear_rmse_perc, 0.1);
   EXPECT_NE(json.find("\"matched\": 400"), std::string::npos);
   EXPECT_NE(json.find("\"type\": \"sim3\""), std::string::npos);
   EXPECT_NE(json.find("\"per_length\""), std::string::npos);
@@ -127,6 +142,18 @@ TEST_F(EvalCli, EvalOptionsAndErrors) {
   out = run("eval --gt " + path("stamped_groundtruth.txt") + " --est " + path("stamped_traj_estimate.txt") +
             " --align bogus --out " + dir_.string());
   EXPECT_NE(out.status, 0);
+
+  // --velocities none skips the velocity error; a bad velocities file is an error naming file and line.
+  out = run("eval --gt " + path("stamped_groundtruth.txt") + " --est " + path("stamped_traj_estimate.txt") +
+            " --velocities none --out " + (dir_ / "novel").string());
+  ASSERT_EQ(out.status, 0) << out.text;
+  EXPECT_EQ(out.text.find("body velocity"), std::string::npos) << out.text;
+  EXPECT_EQ(slurp(dir_ / "novel" / "eval.json").find("\"velocity\""), std::string::npos);
+  std::ofstream(path("bad_vel.txt")) << "0.0 1 2 3 4 5 6\n0.02 1 2 3 4 5\n";
+  out = run("eval --gt " + path("stamped_groundtruth.txt") + " --est " + path("stamped_traj_estimate.txt") +
+            " --velocities " + path("bad_vel.txt") + " --out " + (dir_ / "badvel").string());
+  EXPECT_EQ(out.status, 1);
+  EXPECT_NE(out.text.find("bad_vel.txt:2"), std::string::npos) << out.text;
 }
 
 bool haveMatplotlib() {

@@ -23,6 +23,20 @@ inline StampedTrajectory helix(std::size_t n = 1000, int64_t dt_ns = 10'000'000,
   return traj;
 }
 
+/// The exact body-frame twist of helix() at t_ns: v = Rᵀ ṗ with ṗ = (−sin t, cos t, 0.1); with
+/// R = Rz(t) Rx(b), b = 0.2 sin 3t: ω = Rx(b)ᵀ e_z + ḃ e_x, ḃ = 0.6 cos 3t.
+inline StampedTwist helixTwist(int64_t t_ns) {
+  const double t = 1e-9 * static_cast<double>(t_ns);
+  const Eigen::Matrix3d Rx =
+      Eigen::AngleAxisd(0.2 * std::sin(3 * t), Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(t, Eigen::Vector3d::UnitZ()).toRotationMatrix() * Rx;
+  StampedTwist twist;
+  twist.t_ns = t_ns;
+  twist.v_c = R.transpose() * Eigen::Vector3d(-std::sin(t), std::cos(t), 0.1);
+  twist.w_c = Rx.transpose() * Eigen::Vector3d::UnitZ() + 0.6 * std::cos(3 * t) * Eigen::Vector3d::UnitX();
+  return twist;
+}
+
 /// Applies p ↦ s R p + t, q ↦ R q (a similarity of the world frame) to every pose.
 inline StampedTrajectory transformed(const StampedTrajectory& in, double s, const Eigen::Quaterniond& R,
                                      const Eigen::Vector3d& t) {

@@ -5,6 +5,7 @@
 // the ground-truth path length (or given lengths), pooled relative errors over all lengths.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "asynevo/eval/association.hpp"
 #include "asynevo/eval/statistics.hpp"
 #include "asynevo/eval/trajectory_errors.hpp"
+#include "asynevo/eval/velocity_errors.hpp"
 
 namespace asynevo::eval {
 
@@ -23,6 +25,7 @@ struct EvalOptions {
   std::vector<double> rel_lengths_m;  ///< given lengths (m); empty = use percentages
   std::vector<double> rel_percentages = {0.1, 0.2, 0.3, 0.4, 0.5};  ///< of the GT path length
   bool rpg_start_indexing = true;                                   ///< see RelativeErrorOptions
+  int64_t velocity_max_gt_gap_ns = kDefaultVelocityMaxGtGapNs;      ///< see computeVelocityErrors
 };
 
 struct EvalResult {
@@ -42,6 +45,10 @@ struct EvalResult {
   std::vector<RelativeErrors> relative;               ///< one per length, in the order requested
   Stats pooled_trans, pooled_trans_perc, pooled_rot;  ///< all lengths' samples together
 
+  /// Body-velocity errors (addVelocityErrors), when the estimate's twists were given.
+  std::optional<VelocityErrors> velocity;
+  std::string velocities_path;  ///< where the twists came from ("" for in-memory input)
+
   std::vector<std::string> warnings;  ///< things a user should know (shown by the CLI)
 };
 
@@ -50,8 +57,17 @@ struct EvalResult {
 /// options.
 EvalResult evaluate(const StampedTrajectory& gt, const StampedTrajectory& est, const EvalOptions& options);
 
+/// Adds the body-velocity errors of `twists` against `gt` to `result` (computed by evaluate() from
+/// the same ground truth): the linear part is scaled by result.alignment.scale (1 unless sim3). A
+/// warning says how many twists have no ground-truth velocity; `source` names them in it.
+void addVelocityErrors(EvalResult& result, const StampedTrajectory& gt,
+                       const std::vector<StampedTwist>& twists, const EvalOptions& options,
+                       const std::string& source = "the velocities");
+
 /// Reads both files (TUM / ECD layout) and evaluates. Reader warnings (normalized quaternions) and
-/// association problems name the files.
-EvalResult evaluateFiles(const std::string& gt_path, const std::string& est_path, const EvalOptions& options);
+/// association problems name the files. With `velocities_path` (a velocities.txt: t vx vy vz wx wy wz,
+/// body frame) also the velocity errors (addVelocityErrors).
+EvalResult evaluateFiles(const std::string& gt_path, const std::string& est_path, const EvalOptions& options,
+                         const std::string& velocities_path = "");
 
 }  // namespace asynevo::eval
