@@ -34,60 +34,20 @@ def check(cond, what):
 # ----------------------------------------------------------------------------- units
 
 
-def rot_to_quat(R):
-    """x y z w quaternions of rotation matrices (n,3,3) (for trace > -1, enough here)."""
-    w = np.sqrt(np.maximum(1 + np.trace(R, axis1=1, axis2=2), 1e-12)) / 2
-    x = (R[:, 2, 1] - R[:, 1, 2]) / (4 * w)
-    y = (R[:, 0, 2] - R[:, 2, 0]) / (4 * w)
-    z = (R[:, 1, 0] - R[:, 0, 1]) / (4 * w)
-    return np.stack([x, y, z, w], axis=1)
-
-
-def exp_so3(phi):
-    th = np.linalg.norm(phi, axis=1)
-    K = np.zeros((len(phi), 3, 3))
-    K[:, 0, 1], K[:, 0, 2], K[:, 1, 2] = -phi[:, 2], phi[:, 1], -phi[:, 0]
-    K[:, 1, 0], K[:, 2, 0], K[:, 2, 1] = phi[:, 2], -phi[:, 1], phi[:, 0]
-    a = np.where(th > 1e-9, np.sin(th) / np.maximum(th, 1e-12), 1.0)[:, None, None]
-    b = np.where(th > 1e-9, (1 - np.cos(th)) / np.maximum(th, 1e-12) ** 2, 0.5)[:, None, None]
-    return np.eye(3)[None] + a * K + b * K @ K
-
-
-def synthetic_run(folder, scale, v_gain=1.0, w_bias=0.0):
-    """A 1 kHz ground truth (constant body rate, smooth translation) and knot velocities at 50 ms,
-    the linear part divided by `scale` (a map in other units) and multiplied by v_gain."""
-    omega = np.array([0.2, -0.3, 0.5])
-    t = np.arange(0, 4.0005, 0.001)
-    p = np.stack([np.sin(t), 0.5 * np.cos(2 * t), 0.1 * t], axis=1)
-    R = exp_so3(t[:, None] * omega[None])
-    with open(os.path.join(folder, "stamped_groundtruth.txt"), "w") as f:
-        for ti, pi, qi in zip(t, p, rot_to_quat(R)):
-            f.write("%.9f %s %s\n" % (ti, " ".join("%.12g" % v for v in pi), " ".join("%.12g" % v for v in qi)))
-    tk = np.arange(0.1, 3.9, 0.05)
-    dp = np.stack([np.cos(tk), -np.sin(2 * tk), 0.1 * np.ones_like(tk)], axis=1)
-    Rk = exp_so3(tk[:, None] * omega[None])
-    v_b = np.einsum("nji,nj->ni", Rk, dp)
-    with open(os.path.join(folder, "velocities.txt"), "w") as f:
-        for ti, vi in zip(tk, v_b):
-            vals = list(vi * v_gain / scale) + list(omega + w_bias)
-            f.write("%.9f %s\n" % (ti, " ".join("%.12g" % v for v in vals)))
-    return np.linalg.norm(v_b, axis=1)
-
-
 def units():
-    with tempfile.TemporaryDirectory(prefix="benchmark_suite_test_") as d:
-        speeds = synthetic_run(d, scale=2.5)
-        v = bs.velocity_errors(d, 2.5)
-        check(v["vel_rmse_mps"] < 1e-4, "exact velocities (map scale 1/2.5) give ~0 RMSE: %.2e m/s" % v["vel_rmse_mps"])
-        check(v["omega_rmse_dps"] < 1e-3, "exact angular velocity gives ~0 RMSE: %.2e deg/s" % v["omega_rmse_dps"])
-        check(abs(v["mean_speed_mps"] - speeds.mean()) < 1e-4, "mean speed is the ground truth's")
-        check(v["velocity_samples"] == len(speeds), "every knot inside the ground-truth span is used")
-
-        synthetic_run(d, scale=2.5, v_gain=1.1, w_bias=0.01)
-        v = bs.velocity_errors(d, 2.5)
-        expect = 100 * 0.1 * np.sqrt(np.mean(speeds**2)) / speeds.mean()
-        check(abs(v["vel_rmse_perc"] - expect) < 1e-3, "10 %% too fast: %.4f %% vs %.4f %%" % (v["vel_rmse_perc"], expect))
-        check(abs(v["omega_rmse_dps"] - np.degrees(0.01 * np.sqrt(3))) < 1e-3, "angular bias shows in the ω RMSE")
+    # the velocity error is asynevo eval's (tests/eval/velocity_errors_test.cpp); the suite reads it
+    ev = dict(velocity=dict(samples=70, linear_mps=dict(rmse=0.05, mean=0.04, num_samples=70),
+                            angular_dps=dict(rmse=2.0, num_samples=70), mean_gt_speed_mps=0.5,
+                            mean_gt_rate_dps=40.0, linear_rmse_perc_of_mean_speed=10.0,
+                            angular_rmse_perc_of_mean_rate=5.0))  # fmt: skip
+    v = bs.velocity_summary(ev)
+    check(v == dict(velocity_samples=70, vel_rmse_mps=0.05, mean_speed_mps=0.5, vel_rmse_perc=10.0,
+                    omega_rmse_dps=2.0, omega_rmse_perc=5.0), "velocity read from eval.json: %s" % v)  # fmt: skip
+    check("velocity_error" in bs.velocity_summary({}) and "vel_rmse_perc" not in bs.velocity_summary({}),
+          "an eval.json without velocity says so")  # fmt: skip
+    ev["velocity"]["samples"] = 0
+    check(bs.velocity_summary(ev).get("velocity_samples") == 0 and "vel_rmse_perc" not in bs.velocity_summary(ev),
+          "no velocity sample gives no error figure")  # fmt: skip
 
     with tempfile.TemporaryDirectory(prefix="benchmark_suite_test_") as d:
         path = os.path.join(d, "timing.csv")
@@ -113,6 +73,25 @@ def units():
     check("met (0.50)" in tgt and "**missed** (3.0)" in tgt and "**missed** (1.50)" in tgt, "targets met/missed")
     ratios, _ = bs.ratio_table(seqs, [ok, bad])
     check("no timing" in ratios, "a baseline without timing is named in the ratio table")
+
+    # a run stopped by --run-timeout: its runtime up to where it stopped, and where that was
+    tm = dict(t_s=np.array([0.5, 1.0, 1.5]), total_ms=np.array([50.0, 70.0, 90.0]), window_knots=np.array([10, 20, 30.0]))
+    stopped = dict(sequence="s", backend="incremental", status="timeout", timing=tm, stats=None, eval=None,
+                   run_dir="/nonexistent", message="stopped after the --run-timeout of 450 s")  # fmt: skip
+    stopped["summary"] = bs.summarize_run(stopped, seqs[0])
+    stopped["message"] = bs.timeout_message(stopped, seqs[0])
+    check(stopped["message"] == "stopped after the --run-timeout of 450 s at event time 1.5 s of the 3 s sequence "
+          "(runtime figures cover its 3 updates up to there)", "timeout message: %s" % stopped["message"])  # fmt: skip
+    rt = bs.runtime_table(seqs, [ok, stopped])
+    check("| s | incremental | timeout at event time 1.5 s | 3 | 70.0 | 88.0 | 90.0 | 0.2 |" in rt,
+          "the runtime table has the stopped run's partial runtime")  # fmt: skip
+    acc = bs.accuracy_table(seqs, [ok, stopped])
+    check("| s | incremental | **timeout**: stopped after the --run-timeout of 450 s at event time 1.5 s" in acc,
+          "the accuracy table says where the run was stopped")  # fmt: skip
+    early = dict(stopped, timing=None, message="stopped after the --run-timeout of 5 s")
+    early["summary"] = bs.summarize_run(early, seqs[0])
+    check(bs.timeout_message(early, seqs[0]).endswith("before its first backend update (no timing rows)"),
+          "a run stopped before any update says so")  # fmt: skip
 
     with tempfile.TemporaryDirectory(prefix="benchmark_suite_test_") as d:
         doc = os.path.join(d, "r.md")

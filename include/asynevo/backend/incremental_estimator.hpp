@@ -7,6 +7,10 @@
 //                  whenever new measurements arrived, at most once per `trigger_ms` of event time.
 //                  The exact MAP of the same model; its cost grows with the history, so it OVERSTATES
 //                  iSAM2's per-update cost (iSAM2 re-eliminates only the affected part of its Bayes tree).
+//                  Solved with SPARSE_SCHUR (the window and B: DENSE_SCHUR). Measured on the simulated
+//                  room_poster sequence (docs/results.md): no faster per update than DENSE_SCHUR was at the
+//                  same number of knots; still ~170 ms more per second of event time, > 1 s per update
+//                  beyond ~160 knots (the reduced camera system over long-lived landmarks is not banded).
 //   frozen         option B: as A, but knots older than `active_knots` from the newest are held
 //                  constant (Ceres drops factors whose blocks are all constant). Near-constant cost; it
 //                  may UNDERSTATE iSAM2's accuracy, since iSAM2 still back-substitutes into old variables.
