@@ -117,6 +117,9 @@ class HasteTracker {
   /// previous check's offset; returns its translation from the current state in px. A tracker that slid
   /// along a contour, or lost its feature, is far from where its first window says it should be.
   float firstTemplateDrift();
+  /// matchScore(tmpl, ...) with the given stride at the 9 poses (x + ox, y + oy, angleAfter(turns)) for the
+  /// 9 translation offsets of the hypotheses (identity first), in one pass over the window.
+  void matchScoresTranslated(const Patch& tmpl, float x, float y, int turns, int stride, double* out) const;
   /// The window events, oldest first (fewer than kWindow while initializing).
   int windowSize() const { return count_; }
   const WindowEvent& windowEvent(int i) const { return window_[(head_ + i) % kWindow]; }
@@ -187,6 +190,12 @@ class HasteTracker {
   alignas(32) float hx_[kPadded] = {}, hy_[kPadded] = {}, hc_[kPadded] = {}, hs_[kPadded] = {};
   std::array<double, kHypotheses> scores_{};
   bool axis_aligned_ = true;  ///< state angle exactly 0 (sampleHypotheses' shared-stencil path)
+  float theta0_ = 0.f;        ///< seed angle
+  int turns_ = 0;             ///< rotation steps since the seed, in (-kTurnsPerRevolution/2, kTurnsPerRevolution/2]
+  static constexpr int kTurnsPerRevolution = 90;  ///< 360 / 4 degrees
+  /// Angle of the seed plus `turns` rotation steps, wrapped (exact multiples of the step: no drift).
+  float angleAfter(int turns) const { return wrapAngle(theta0_ + float(turns) * kRotationStep); }
+  bool alignedAfter(int turns) const { return theta0_ == 0.f && turns % kTurnsPerRevolution == 0; }
   Patch normalized_{};
   std::vector<WindowEvent> window_;  ///< ring buffer of kWindow events, allocated once
   int head_ = 0;                     ///< index of the oldest event
