@@ -26,8 +26,8 @@
 #include "asynevo/io/event_reader.hpp"
 #include "asynevo/io/trajectory_io.hpp"
 #include "asynevo/sim/feature_ground_truth.hpp"
+#include "frontend_run.hpp"
 #include "sim_sequence.hpp"
-#include "synthetic_stream.hpp"
 
 using namespace asynevo;
 
@@ -46,50 +46,21 @@ Eigen::Vector3d mocapAngularVelocity(const std::string& path, int64_t t0, int64_
   return aa.axis() * aa.angle() / (static_cast<double>(b.t_ns - a.t_ns) * 1e-9);
 }
 
-// Tracking error against the exact motion of the synthetic stream: for each track, error at each
-// measurement = |(p(t) - p(t0)) + (offset(t) - offset(t0))|, t0 = the track's first measurement.
+// Tracking error against the exact motion of the synthetic stream (frontend_run.hpp).
 void evaluateSynthetic(const Config& config) {
   const double speed = 500.0;
   const std::vector<Event> events = bench::syntheticStream(240, 180, 1.5, speed);
-  frontend::Frontend fe(config.frontend, 240, 180);
-  frontend::MeasurementCollector out;
-  for (const Event& e : events) fe.process(e, out);
-  fe.finish(out);
-  fmt::print("== synthetic stream ({} events)\n{}", events.size(), fe.stats().summary());
-  std::map<int64_t, std::vector<TrackMeasurement>> tracks;
-  for (const auto& m : out.measurements) tracks[m.feature_id].push_back(m);
-  std::vector<double> errors;
-  int bad_tracks = 0, used = 0;
-  std::vector<double> lifetimes;
-  for (const auto& [id, ms] : tracks) {
-    if (ms.size() < 2) continue;
-    ++used;
-    double ox0, oy0;
-    bench::syntheticOffset(speed, ms.front().t_ns * 1e-9, ox0, oy0);
-    int64_t first_bad = -1;
-    for (const auto& m : ms) {
-      double ox, oy;
-      bench::syntheticOffset(speed, m.t_ns * 1e-9, ox, oy);
-      const double e = std::hypot(m.x - ms.front().x + (ox - ox0), m.y - ms.front().y + (oy - oy0));
-      errors.push_back(e);
-      if (e > 5 && first_bad < 0) first_bad = m.t_ns;
-    }
-    if (first_bad >= 0 && ms.back().t_ns - first_bad > 20'000'000) ++bad_tracks;
-    lifetimes.push_back((ms.back().t_ns - ms.front().t_ns) * 1e-9);
-  }
-  std::sort(errors.begin(), errors.end());
-  std::sort(lifetimes.begin(), lifetimes.end());
-  auto q = [](const std::vector<double>& v, double f) {
-    return v.empty() ? 0.0 : v[std::size_t(f * (v.size() - 1))];
-  };
-  const double above5 =
-      static_cast<double>(errors.end() - std::upper_bound(errors.begin(), errors.end(), 5.0));
+  const bench::FrontendRun run = bench::runFrontend(config.frontend, events, 240, 180);
+  fmt::print("== synthetic stream ({} events)\n{}", events.size(), run.stats.summary());
+  const bench::SyntheticAccuracy r = bench::evaluateSyntheticTracks(run.out.measurements, speed);
+  using Q = bench::SyntheticAccuracy;
   fmt::print(
       "track error px    median {:.3f}  p90 {:.3f}  >5px {:.1f} %  over {} measurements of {} tracks\n",
-      q(errors, 0.5), q(errors, 0.9), 100 * above5 / std::max<std::size_t>(1, errors.size()), errors.size(),
-      used);
-  fmt::print("bad tracks        {} with error > 5 px surviving > 20 ms after it\n", bad_tracks);
-  fmt::print("lifetime s        median {:.4f}  p90 {:.4f}\n", q(lifetimes, 0.5), q(lifetimes, 0.9));
+      Q::quantile(r.errors_px, 0.5), Q::quantile(r.errors_px, 0.9), 100 * r.shareAbove(5.0), r.errors_px.size(),
+      r.tracks_used);
+  fmt::print("bad tracks        {} with error > 5 px surviving > 20 ms after it\n", r.bad_tracks);
+  fmt::print("lifetime s        median {:.4f}  p90 {:.4f}\n", Q::quantile(r.lifetimes_s, 0.5),
+             Q::quantile(r.lifetimes_s, 0.9));
 }
 
 void printAccuracy(const std::vector<TrackMeasurement>& measurements, const sim::FeatureGroundTruth& gt,
@@ -132,6 +103,49 @@ void printAccuracy(const std::vector<TrackMeasurement>& measurements, const sim:
   }
 }
 
+// Why features end and what it costs: per drop reason, how many ended, how many of them were wrong when
+// they ended (last error > 3 px), and how many were replaced by a new feature starting within 3 px of the
+// ended one's last position within 50 ms (churn: the same place tracked again from scratch).
+void printEndings(const frontend::MeasurementCollector& out, const sim::FeatureAccuracy& r) {
+  struct Span {
+    int64_t first_ns, last_ns;
+    float x0, y0, x1, y1;
+  };
+  std::map<int64_t, Span> spans;
+  for (const auto& m : out.measurements) {
+    auto [it, inserted] = spans.try_emplace(m.feature_id, Span{m.t_ns, m.t_ns, m.x, m.y, m.x, m.y});
+    if (!inserted) it->second = Span{it->second.first_ns, m.t_ns, it->second.x0, it->second.y0, m.x, m.y};
+  }
+  std::map<int64_t, double> last_error;
+  for (const auto& t : r.tracks)
+    if (t.anchored && !t.errors_px.empty()) last_error[t.id] = t.errors_px.back();
+  struct Count {
+    int ended = 0, wrong = 0, evaluated = 0, replaced = 0;
+  };
+  std::map<std::string, Count> counts;
+  for (const auto& end : out.ends) {
+    Count& c = counts[frontend::dropReasonName(end.reason)];
+    ++c.ended;
+    if (auto e = last_error.find(end.feature_id); e != last_error.end()) {
+      ++c.evaluated;
+      c.wrong += e->second > 3.0 ? 1 : 0;
+    }
+    const auto self = spans.find(end.feature_id);
+    if (self == spans.end()) continue;
+    for (auto it = spans.upper_bound(end.feature_id); it != spans.end(); ++it) {
+      const Span& o = it->second;
+      if (o.first_ns < end.t_ns || o.first_ns > end.t_ns + 50'000'000) continue;
+      if (std::hypot(o.x0 - self->second.x1, o.y0 - self->second.y1) < 3.f) {
+        ++c.replaced;
+        break;
+      }
+    }
+  }
+  fmt::print("endings           reason: ended / last error > 3 px (of evaluated) / re-seeded within 3 px, 50 ms\n");
+  for (const auto& [name, c] : counts)
+    fmt::print("  {:<14} {:4d} / {:4d} (of {:4d}) / {:4d}\n", name, c.ended, c.wrong, c.evaluated, c.replaced);
+}
+
 void evaluateSimulated(const Config& config, const std::string& spec, int worst) {
   // SCENE:MOTION:SECONDS[:SEED]
   std::vector<std::string> parts;
@@ -143,14 +157,13 @@ void evaluateSimulated(const Config& config, const std::string& spec, int worst)
     throw std::invalid_argument("--sim takes SCENE:MOTION:SECONDS[:SEED], got " + spec);
   const uint64_t seed = parts.size() == 4 ? std::stoull(parts[3]) : 1;
   const bench::SimSequence s = bench::simulateSequence(parts[0], parts[1], std::stod(parts[2]), seed);
-  frontend::Frontend fe(config.frontend, s.camera.width(), s.camera.height(),
-                        s.camera.undistortionTable<float>());
-  frontend::MeasurementCollector out;
-  for (const Event& e : s.events) fe.process(e, out);
-  fe.finish(out);
+  const bench::FrontendRun run = bench::runFrontend(config.frontend, s.events, s.camera.width(),
+                                                    s.camera.height(), s.camera.undistortionTable<float>());
+  const frontend::MeasurementCollector& out = run.out;
   fmt::print("== simulated {} ({:.2f} s, seed {}, {} events)\n{}", s.name, std::stod(parts[2]), seed,
-             s.events.size(), fe.stats().summary());
+             s.events.size(), run.stats.summary());
   printAccuracy(out.measurements, *s.ground_truth, worst);
+  printEndings(out, sim::evaluateFeatureTracks(out.measurements, *s.ground_truth));
 }
 
 }  // namespace
@@ -190,12 +203,10 @@ int main(int argc, char** argv) {
     }
     const std::vector<Event> events = readAllEvents(dir + "/events.txt");
     const CameraModel camera = readEcdCalibration(dir + "/calib.txt");
-    frontend::Frontend fe(config.frontend, camera.width(), camera.height(),
-                          camera.undistortionTable<float>());
-    frontend::MeasurementCollector out;
-    for (const Event& e : events) fe.process(e, out);
-    fe.finish(out);
-    fmt::print("== {}\n{}", dir, fe.stats().summary());
+    const bench::FrontendRun run = bench::runFrontend(config.frontend, events, camera.width(), camera.height(),
+                                                      camera.undistortionTable<float>());
+    const frontend::MeasurementCollector& out = run.out;
+    fmt::print("== {}\n{}", dir, run.stats.summary());
     if (sim::isSimulatedDataset(dir)) {
       printAccuracy(out.measurements, sim::loadSimulatedGroundTruth(dir), worst);
       continue;

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "../../bench/frontend/frontend_run.hpp"
 #include "../../bench/frontend/sim_sequence.hpp"
 #include "asynevo/frontend/frontend.hpp"
 
@@ -15,11 +16,9 @@ namespace {
 sim::FeatureAccuracy run(const std::string& scene, const std::string& motion, double seconds, uint64_t seed,
                          const FrontendConfig& config = {}) {
   const bench::SimSequence s = bench::simulateSequence(scene, motion, seconds, seed);
-  Frontend fe(config, s.camera.width(), s.camera.height(), s.camera.undistortionTable<float>());
-  MeasurementCollector out;
-  for (const Event& e : s.events) fe.process(e, out);
-  fe.finish(out);
-  const sim::FeatureAccuracy r = sim::evaluateFeatureTracks(out.measurements, *s.ground_truth);
+  const bench::FrontendRun fe =
+      bench::runFrontend(config, s.events, s.camera.width(), s.camera.height(), s.camera.undistortionTable<float>());
+  const sim::FeatureAccuracy r = sim::evaluateFeatureTracks(fe.out.measurements, *s.ground_truth);
   std::printf("%s (%.1f s, seed %llu):\n%s", s.name.c_str(), seconds, static_cast<unsigned long long>(seed),
               r.summary().c_str());
   return r;
