@@ -36,7 +36,7 @@ struct FrontendConfig {
   double housekeeping_ms = 1.0;       ///< period (event time) of the idle/time-out/quality checks
   double min_anisotropy = 0.06;       ///< quality: min eigenvalue ratio of the window events' spread
   double max_drift_px = 2.0;          ///< drift test: max offset of the first-template match (0 = off)
-  double drift_check_ms = 5.0;        ///< event-time period of a feature's drift test
+  double drift_check_ms = 10.0;       ///< event-time period of a feature's drift test
   double max_rotation_deg = 20.0;     ///< rotation test: max departure from the features' common roll (0 = off)
   double max_time_reversal_us = 0.0;  ///< events earlier than their predecessor by more are dropped
 
