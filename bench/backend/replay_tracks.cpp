@@ -1,11 +1,11 @@
-// Backend replay: runs an estimator on the feature tracks a run recorded (its tracks.txt), without the
+// Backend replay (writes OUT_TRAJ and OUT_TRAJ.updates.csv): runs an estimator on the feature tracks a run recorded (its tracks.txt), without the
 // frontend, optionally with the measured positions replaced by their exact ground truth on a simulated
 // sequence ("oracle" tracks: same features, same lifetimes, same times, positions from the scene).
 // A diagnostic for docs/backend.md: it separates the error the frontend's tracks bring from the error
 // of the backend itself.
 //
 //   bench_replay_tracks RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental]
-//                       [--seed N]
+//                       [--seed N] [--dump-errors FILE]
 //
 // --oracle: positions of features on a fixed scene point replaced by their projection plus Gaussian
 // noise; features born on a depth discontinuity (no fixed 3D point) keep their measured positions.
@@ -46,15 +46,16 @@ struct Args {
   bool drop_edges = false;
   bool incremental = false;
   unsigned seed = 1;
+  std::string dump_errors;  ///< --dump-errors FILE: measured vs exact pixel of every fixed-point measurement
 };
 
 Args parse(int argc, char** argv) {
   if (argc < 4) {
-    std::fprintf(stderr, "usage: %s RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental] [--seed N]\n",
+    std::fprintf(stderr, "usage: %s RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental] [--seed N] [--dump-errors FILE]\n",
                  argv[0]);
     std::exit(2);
   }
-  Args a{argv[1], argv[2], argv[3], std::nullopt, false, false, 1};
+  Args a{argv[1], argv[2], argv[3], std::nullopt, false, false, 1, {}};
   for (int i = 4; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "--oracle" && i + 1 < argc) {
@@ -63,6 +64,8 @@ Args parse(int argc, char** argv) {
       a.drop_edges = true;
     } else if (flag == "--incremental") {
       a.incremental = true;
+    } else if (flag == "--dump-errors" && i + 1 < argc) {
+      a.dump_errors = argv[++i];
     } else if (flag == "--seed" && i + 1 < argc) {
       a.seed = static_cast<unsigned>(std::stoul(argv[++i]));
     } else {
@@ -80,7 +83,7 @@ int main(int argc, char** argv) try {
   const Config config = loadConfig(args.run + "/config.yaml");
   const CameraModel camera = readCalibration(args.dataset + "/calib.txt", config.sensor.width, config.sensor.height);
   std::optional<sim::FeatureGroundTruth> truth;
-  if (args.oracle_noise_px || args.drop_edges) truth.emplace(sim::loadSimulatedGroundTruth(args.dataset));
+  if (args.oracle_noise_px || args.drop_edges || !args.dump_errors.empty()) truth.emplace(sim::loadSimulatedGroundTruth(args.dataset));
 
   backend::EstimatorOptions options;
   options.config = config.backend;
@@ -92,6 +95,11 @@ int main(int argc, char** argv) try {
     estimator = std::make_unique<backend::SlidingWindowEstimator>(options);
   }
 
+  std::ofstream dump;
+  if (!args.dump_errors.empty()) {
+    dump.open(args.dump_errors);
+    dump << "# id t x y x_true y_true\n";
+  }
   std::ifstream in(args.run + "/tracks.txt");
   if (!in) throw std::runtime_error(args.run + "/tracks.txt: cannot open");
   std::mt19937 rng(args.seed);
@@ -124,6 +132,9 @@ int main(int argc, char** argv) try {
         ++skipped;
         continue;
       }
+      if (fixed_point && dump.is_open())
+        dump << fmt::format("{} {:.6f} {:.3f} {:.3f} {:.3f} {:.3f}\n", id, m.t_ns * 1e-9, x, y, projection.pixel.x(),
+                            projection.pixel.y());
       if (fixed_point && args.oracle_noise_px) pixel = projection.pixel + Eigen::Vector2d(noise(rng), noise(rng));
     }
     const auto xn = camera.unproject(pixel);
@@ -156,9 +167,22 @@ int main(int argc, char** argv) try {
   }
   std::sort(trajectory.begin(), trajectory.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
   writeTumTrajectory(args.out, trajectory);
+  {
+    // The update records next to the trajectory (OUT_TRAJ.updates.csv) for plots of the window.
+    std::ofstream updates(args.out + ".updates.csv");
+    updates << "t,knots,landmarks,measurements,iterations,solve_ms,total_ms,final_cost\n";
+    for (const auto& r : estimator->takeUpdateRecords())
+      updates << fmt::format("{:.4f},{},{},{},{},{:.2f},{:.2f},{:.4g}\n", r.event_t_ns * 1e-9, r.window_knots,
+                             r.landmarks, r.measurements, r.iterations, r.solve_ms, r.total_ms, r.final_cost);
+  }
   const auto stats = estimator->stats();
   fmt::print("{}: fed {} measurements ({} skipped), {} knots, initialized {} at {:.3f} s\n", estimator->name(),
              fed, skipped, trajectory.size(), stats.initialized, stats.initialized_at_ns * 1e-9);
+  fmt::print("landmarks {} (marginalized {}), tracks rejected {}, outliers {}, observations marginalized {}, "
+             "dropped {} (forced) {} (untriangulated), scale anchors {}\n",
+             stats.landmarks_created, stats.landmarks_marginalized, stats.tracks_rejected, stats.outliers_removed,
+             stats.observations_marginalized, stats.observations_dropped_forced,
+             stats.observations_dropped_untriangulated, stats.scale_anchors);
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "error: %s\n", e.what());

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 
+#include "asynevo/backend/factors/fixed_pose_projection_factor.hpp"
 #include "asynevo/backend/factors/gp_projection_factor.hpp"
 #include "asynevo/backend/factors/scale_anchor_factor.hpp"
 #include "asynevo/backend/factors/se3_manifold.hpp"
@@ -203,6 +204,7 @@ void SlidingWindowEstimator::triangulateTracks() {
   for (auto& [id, track] : tracks_) {
     if (track.triangulated) continue;
     std::vector<TriangulationView> views;
+    for (const FixedView& v : track.fixed_views) views.push_back({v.T_w_c, v.xn});
     for (const Observation& o : track.observations) {
       if (trajectory_.covers(o.t_ns)) views.push_back({trajectory_.pose(o.t_ns), o.xn});
     }
@@ -249,6 +251,9 @@ void SlidingWindowEstimator::buildFactors(std::vector<FactorEntry>& factors, std
       factors.push_back({std::make_shared<GpProjectionFactor>(o.xn, o.t_ns, a.t_ns, b.t_ns, sigma), huber_,
                          {a.pose.data(), a.velocity.data(), b.pose.data(), b.velocity.data(), track.p_w.data()}});
       if (projection_sources) projection_sources->push_back({&track, i, factors.size() - 1});
+    }
+    for (const FixedView& v : track.fixed_views) {
+      factors.push_back({std::make_shared<FixedPoseProjectionFactor>(v.T_w_c, v.xn, sigma), huber_, {track.p_w.data()}});
     }
   }
   if (prior_) factors.push_back(*prior_);
@@ -333,18 +338,34 @@ void SlidingWindowEstimator::marginalizeDynamic() {
   if (count == 0) return;
   const int64_t new_oldest = times[count];
 
-  // Observations that would tie a marginalized knot to an unmarked trajectory are dropped (forced case)
-  // or, for trajectories never triangulated, simply leave with the knots.
+  // Observations that would tie a marginalized knot to an unmarked trajectory (forced case):
+  //  - of a trajectory never triangulated: they simply leave with the knots;
+  //  - of a landmark, by forced_marginalization:
+  //      fixed_poses  they stay as projections from their interpolated poses, now held fixed;
+  //      prior        they enter the Schur complement and the landmark joins the prior's blanket;
+  //      drop         they are dropped, and the prior stays on knots only;
+  //    with fixed_poses or prior, a landmark with no measurement left in the window leaves with the knots.
+  // A measurement exactly at the new oldest knot time uses the segment after it: kept.
+  const std::string& mode = c.forced_marginalization;
+  std::set<int64_t> leaving = marked;
   for (auto& [id, track] : tracks_) {
-    if (marked.count(id)) continue;
-    const std::size_t dropped = track.dropBefore(new_oldest);
-    if (dropped == 0) continue;
-    if (track.triangulated) {
-      stats_.observations_dropped_forced += dropped;
-    } else {
-      stats_.observations_dropped_untriangulated += dropped;
+    if (marked.count(id) || track.observations.empty() || track.firstTime() >= new_oldest) continue;
+    if (!track.triangulated) {
+      stats_.observations_dropped_untriangulated += track.dropBefore(new_oldest);
+      continue;
     }
-    // A measurement exactly at the new oldest knot time uses the segment after it: kept.
+    if (mode == "drop") {
+      stats_.observations_dropped_forced += track.dropBefore(new_oldest);
+      continue;
+    }
+    if (mode == "fixed_poses") {
+      for (const Observation& o : track.observations) {
+        if (o.t_ns >= new_oldest) break;
+        track.fixed_views.push_back({trajectory_.pose(o.t_ns), o.xn});
+      }
+      stats_.observations_fixed_pose += track.dropBefore(new_oldest);
+    }
+    if (track.observations.empty() || track.lastTime() < new_oldest) leaving.insert(id);
   }
   if (forced) ++stats_.forced_marginalizations;
 
@@ -354,7 +375,7 @@ void SlidingWindowEstimator::marginalizeDynamic() {
     to_marginalize.insert(knot->pose.data());
     to_marginalize.insert(knot->velocity.data());
   }
-  for (int64_t id : marked) {
+  for (int64_t id : leaving) {
     if (tracks_[id].triangulated) to_marginalize.insert(tracks_[id].p_w.data());
   }
   std::vector<FactorEntry> factors;
@@ -385,8 +406,11 @@ void SlidingWindowEstimator::marginalizeDynamic() {
     trajectory_.remove(times[k]);
     ++stats_.knots_marginalized;
   }
+  for (auto& [id, track] : tracks_) {
+    if (!leaving.count(id)) stats_.observations_marginalized += track.dropBefore(new_oldest);
+  }
   renewScaleAnchor();
-  for (int64_t id : marked) {
+  for (int64_t id : leaving) {
     auto it = tracks_.find(id);
     if (it->second.triangulated) {
       finalizeLandmark(it->second);
@@ -399,6 +423,24 @@ void SlidingWindowEstimator::marginalizeDynamic() {
   for (auto it = tracks_.begin(); it != tracks_.end();) {
     it = it->second.observations.empty() ? tracks_.erase(it) : std::next(it);
   }
+}
+
+void SlidingWindowEstimator::releaseFromPrior(double* landmark) {
+  if (!prior_ || std::find(prior_->blocks.begin(), prior_->blocks.end(), landmark) == prior_->blocks.end()) return;
+  // The landmark stops being a variable: marginalize it out of the prior alone (a Schur complement of
+  // the prior's own information), so what it said about the other blocks stays and it is not pinned.
+  const auto* linear = dynamic_cast<const LinearPriorFactor*>(prior_->cost.get());
+  std::map<double*, BlockKind> kinds;
+  for (std::size_t i = 0; i < prior_->blocks.size(); ++i)
+    kinds[prior_->blocks[i]] =
+        linear->blocks()[i].kind == LinearPriorBlock::Kind::kPose ? BlockKind::kPose : BlockKind::kEuclidean;
+  const MarginalizationResult result = marginalize({&*prior_}, {landmark}, kinds);
+  if (result.prior) {
+    prior_ = FactorEntry{result.prior, nullptr, result.prior_blocks};
+  } else {
+    prior_.reset();
+  }
+  ++stats_.landmarks_released;
 }
 
 void SlidingWindowEstimator::renewScaleAnchor() {
@@ -455,6 +497,7 @@ void SlidingWindowEstimator::removeOutliers() {
     // A landmark that does not fit as a whole is no fixed scene point (or its tracker drifted): its
     // measurements bias every pose they touch, so the trajectory leaves the estimation for good.
     if (track_limit > 0 && std::sqrt(r.sum_squared / r.count) > track_limit) {
+      releaseFromPrior(track->p_w.data());
       rejected_features_.insert(track->id);
       track->observations.clear();  // erased from tracks_ below
       track->triangulated = false;
@@ -469,6 +512,7 @@ void SlidingWindowEstimator::removeOutliers() {
     int inside = 0;
     for (const auto& o : track->observations) inside += trajectory_.covers(o.t_ns);
     if (inside < 2) {  // not enough left to constrain the landmark: back to an untriangulated trajectory
+      releaseFromPrior(track->p_w.data());
       track->triangulated = false;
       track->observations_at_last_attempt = 0;
       ++stats_.landmarks_lost;

@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "asynevo/backend/factors/fixed_pose_projection_factor.hpp"
 #include "asynevo/backend/factors/gp_projection_factor.hpp"
 #include "asynevo/backend/factors/linear_prior_factor.hpp"
 #include "asynevo/backend/factors/pose_block.hpp"
@@ -188,6 +189,34 @@ TEST(GpProjectionFactor, FailsBehindTheCamera) {
   EXPECT_FALSE(factor.Evaluate(params_behind, r.data(), nullptr));
   EXPECT_TRUE(factor.Evaluate(params_front, r.data(), nullptr));
   EXPECT_NEAR(r.x(), -10.0, 1e-12);
+}
+
+TEST(FixedPoseProjectionFactor, ResidualIsZeroAtTheTruthAndTheJacobianMatches) {
+  std::mt19937 rng(9);
+  const SE3 T_w_c = lie::se3::exp(randomVec6(rng, 1.0));
+  const Eigen::Vector3d p_c(0.4, -0.3, 2.5);
+  const Eigen::Vector3d p_w = T_w_c * p_c;
+  const double sigma = 1.0 / 200.0;
+  const FixedPoseProjectionFactor factor(T_w_c, p_c.head<2>() / p_c.z(), sigma);
+  const std::vector<double> truth = {p_w.x(), p_w.y(), p_w.z()};
+  const double* params[] = {truth.data()};
+  Eigen::Vector2d r;
+  ASSERT_TRUE(factor.Evaluate(params, r.data(), nullptr));
+  EXPECT_LT(r.norm(), 1e-9);
+  const std::vector<double> off = {p_w.x() + 0.2, p_w.y() - 0.1, p_w.z() + 0.3};
+  const double* params_off[] = {off.data()};
+  ASSERT_TRUE(factor.Evaluate(params_off, r.data(), nullptr));
+  EXPECT_GT(r.norm(), 1.0);  // 0.1-0.3 map units off at 2.5 m depth: many pixels
+  for (const auto* v : {&truth, &off}) {
+    const auto result = checkJacobians(factor, {*v}, {nullptr});
+    ASSERT_TRUE(result.evaluated);
+    EXPECT_LT(result.max_abs_error[0], 1e-6 * std::max(1.0, result.max_abs_numeric[0])) << result.report();
+  }
+  // Behind the camera: refused.
+  const Eigen::Vector3d behind = T_w_c * Eigen::Vector3d(0.0, 0.0, -1.0);
+  const std::vector<double> b = {behind.x(), behind.y(), behind.z()};
+  const double* params_behind[] = {b.data()};
+  EXPECT_FALSE(factor.Evaluate(params_behind, r.data(), nullptr));
 }
 
 TEST(StatePriorFactor, ResidualAndJacobians) {

@@ -48,6 +48,9 @@ struct EstimatorStats {
   uint64_t landmarks_marginalized = 0;
   uint64_t forced_marginalizations = 0;          ///< N_max safeguard used
   uint64_t observations_dropped_forced = 0;      ///< dropped to keep the prior on knots only
+  uint64_t observations_fixed_pose = 0;    ///< of active landmarks, kept from fixed poses (forced case)
+  uint64_t observations_marginalized = 0;  ///< of active landmarks, folded into the prior (forced case)
+  uint64_t landmarks_released = 0;  ///< rejected or lost landmarks marginalized out of the prior
   uint64_t observations_dropped_untriangulated = 0;  ///< of trajectories never triangulated, leaving the window
   uint64_t outliers_removed = 0;
   uint64_t landmarks_lost = 0;  ///< fewer than two observations left after outlier removal

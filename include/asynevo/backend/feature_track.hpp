@@ -10,6 +10,8 @@
 
 #include <Eigen/Core>
 
+#include "asynevo/lie/se3.hpp"
+
 namespace asynevo::backend {
 
 struct Observation {
@@ -17,9 +19,17 @@ struct Observation {
   Eigen::Vector2d xn = Eigen::Vector2d::Zero();  ///< normalized undistorted image point
 };
 
+/// A measurement whose knots left the window while its landmark stayed: the camera pose it was made
+/// from is held fixed at its estimate (forced_marginalization: fixed_poses).
+struct FixedView {
+  lie::SE3 T_w_c;
+  Eigen::Vector2d xn = Eigen::Vector2d::Zero();
+};
+
 struct FeatureTrack {
   int64_t id = 0;
   std::vector<Observation> observations;  ///< time-ordered
+  std::vector<FixedView> fixed_views;     ///< older measurements, from poses no longer in the window
   bool ended = false;                     ///< the frontend closed it
   bool triangulated = false;
   std::array<double, 3> p_w{};            ///< landmark, valid when triangulated

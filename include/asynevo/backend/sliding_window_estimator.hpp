@@ -74,6 +74,8 @@ class SlidingWindowEstimator : public Estimator {
   void triangulateTracks();
   void marginalizeDynamic();
   void renewScaleAnchor();
+  /// Marginalizes a landmark that leaves the estimation (rejected, lost) out of the prior, if in it.
+  void releaseFromPrior(double* landmark);
   /// After a solve: rejects whole trajectories failing the RMS test, then single measurements beyond
   /// outlier_px.
   void removeOutliers();
@@ -90,7 +92,7 @@ class SlidingWindowEstimator : public Estimator {
   Trajectory trajectory_;
   TrackMap tracks_;
   std::set<int64_t> rejected_features_;  ///< trajectories rejected by the RMS test: later measurements ignored
-  std::optional<FactorEntry> prior_;          ///< marginalization prior (on knots only)
+  std::optional<FactorEntry> prior_;          ///< marginalization prior (knots, active landmarks)
   /// Gauge and scale anchors from initialization (a state prior on the first knot, a distance between
   /// two knots); each leaves for the marginalization prior with the first of its knots.
   struct Anchor {

@@ -72,6 +72,10 @@ void BackendConfig::validate() const {
   requireRange("backend.window_max_knots", window_max_knots, window_min_knots, 10000);
   requireRange("backend.marginalization_epsilon", marginalization_epsilon, 0.0, 1.0);
   requireRange("backend.scale_anchor_sigma", scale_anchor_sigma, 0.0, 1.0);
+  if (forced_marginalization != "fixed_poses" && forced_marginalization != "prior" && forced_marginalization != "drop")
+    throw ConfigError(fmt::format(
+        "configuration value backend.forced_marginalization = '{}' is not one of fixed_poses, prior, drop",
+        forced_marginalization));
   requireRange("backend.max_iterations", max_iterations, 1, 1000);
   requireRange("backend.max_solver_time_s", max_solver_time_s, 1e-4, 1e4);
   requireRange("backend.solver_threads", solver_threads, 1, 64);

@@ -2,6 +2,7 @@
 // Configuration of the continuous-time backend (DESIGN.md §4 Backend; docs/backend.md).
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace asynevo {
@@ -33,6 +34,11 @@ struct BackendConfig {
   int window_max_knots = 20;    ///< N_max: past this the oldest knot is marginalized anyway
   double marginalization_epsilon = 0.8;  ///< t_ε = (1 − ε) t_0 + ε t_N (paper Alg. 1: 0.8)
   double scale_anchor_sigma = 0.1;       ///< relative σ of the renewed scale anchor (0 disables renewal)
+  /// Forced marginalization (N_max), the measurements of still-active landmarks in the marginalized
+  /// segments: "fixed_poses" keeps them as projections from their (now fixed) interpolated poses,
+  /// "prior" folds them into the Schur complement with the landmarks in the prior's blanket, "drop"
+  /// discards them (the prior stays on knots only). docs/backend.md, "Forced marginalization".
+  std::string forced_marginalization = "drop";
 
   // --- solver ---
   int max_iterations = 5;
@@ -66,6 +72,8 @@ struct BackendConfig {
     v("marginalization_epsilon", marginalization_epsilon, "t_eps = (1 - eps) t_0 + eps t_N (paper: 0.8)");
     v("scale_anchor_sigma", scale_anchor_sigma,
       "relative sigma of the scale anchor renewed in the window once the initial one is marginalized (0 = off)");
+    v("forced_marginalization", forced_marginalization,
+      "measurements of active landmarks at marginalized knots: fixed_poses, prior or drop");
     v("max_iterations", max_iterations, "Levenberg-Marquardt iterations per window solve");
     v("max_solver_time_s", max_solver_time_s, "wall-time cap per window solve [s]");
     v("solver_threads", solver_threads, "Ceres threads (1 = deterministic)");
