@@ -27,7 +27,8 @@ void addPlotCommand(CLI::App& app) {
     const fs::path gt = dir / "stamped_groundtruth.txt", est = dir / "stamped_traj_estimate.txt";
     if (!fs::exists(dir / "eval.json") && fs::exists(gt) && fs::exists(est)) {
       try {
-        const eval::EvalResult result = eval::evaluateFiles(gt.string(), est.string(), eval::EvalOptions{});
+        const eval::EvalResult result = eval::evaluateFiles(gt.string(), est.string(), eval::EvalOptions{},
+                                                                  eval::velocitiesBesideEstimate(est.string()));
         std::optional<eval::TimingStats> timing;
         if (fs::exists(dir / "timing.csv")) timing = eval::readTimingStats((dir / "timing.csv").string());
         eval::writeEvalOutputs(run, result, {gt.string(), est.string(), timing ? &*timing : nullptr});

@@ -45,7 +45,7 @@ DemoResult runDemo(const DemoOptions& options,
   const std::string gt = (dir / "stamped_groundtruth.txt").string(),
                     est = (dir / "stamped_traj_estimate.txt").string();
   try {
-    result.evaluation = eval::evaluateFiles(gt, est, eval::EvalOptions{});
+    result.evaluation = eval::evaluateFiles(gt, est, eval::EvalOptions{}, eval::velocitiesBesideEstimate(est));
     const eval::TimingStats timing = eval::readTimingStats((dir / "timing.csv").string());
     eval::writeEvalOutputs(result.run_dir, *result.evaluation, {gt, est, &timing});
   } catch (const Error& e) {
@@ -82,6 +82,10 @@ std::string demoReportText(const DemoResult& r) {
           fmt::format("  RTE {:5.2f} m   mean translation error {:.2f} %, rotation {:.2f} deg ({} samples)\n",
                       rel.length_m, rel.trans_perc_stats.mean, rel.rot.mean, rel.trans_m.size());
     }
+    if (e.velocity && e.velocity->samples > 0)
+      t += fmt::format("  velocity      RMSE {:.4f} m/s ({:.1f} % of the mean speed {:.3f} m/s), angular {:.2f} deg/s\n",
+                       e.velocity->linear_mps.rmse, e.velocity->linear_rmse_perc, e.velocity->mean_gt_speed_mps,
+                       e.velocity->angular_dps.rmse);
   } else {
     t += "accuracy        not evaluated: " + r.evaluation_error + "\n";
   }
