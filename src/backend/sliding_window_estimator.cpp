@@ -239,6 +239,7 @@ void SlidingWindowEstimator::buildFactors(std::vector<FactorEntry>& factors, std
                        {a.pose.data(), a.velocity.data(), b.pose.data(), b.velocity.data()}});
   }
   const double sigma = normalizedThreshold(options_.config.pixel_sigma);
+  std::map<int64_t, std::shared_ptr<SegmentCache>> segment_caches;  // by the segment's first knot time
   for (auto& [id, track] : tracks_) {
     if (!track.triangulated) continue;
     kinds[track.p_w.data()] = BlockKind::kEuclidean;
@@ -248,7 +249,11 @@ void SlidingWindowEstimator::buildFactors(std::vector<FactorEntry>& factors, std
       if (!seg) continue;  // later than the newest knot: waits for the next knot
       Knot& a = *const_cast<Knot*>(seg->first);
       Knot& b = *const_cast<Knot*>(seg->second);
-      factors.push_back({std::make_shared<GpProjectionFactor>(o.xn, o.t_ns, a.t_ns, b.t_ns, sigma), huber_,
+      auto factor = std::make_shared<GpProjectionFactor>(o.xn, o.t_ns, a.t_ns, b.t_ns, sigma);
+      std::shared_ptr<SegmentCache>& cache = segment_caches[a.t_ns];
+      if (!cache) cache = std::make_shared<SegmentCache>();
+      factor->setSegmentCache(cache);
+      factors.push_back({std::move(factor), huber_,
                          {a.pose.data(), a.velocity.data(), b.pose.data(), b.velocity.data(), track.p_w.data()}});
       if (projection_sources) projection_sources->push_back({&track, i, factors.size() - 1});
     }

@@ -178,6 +178,45 @@ TEST(GpProjectionFactor, ResidualIsZeroAtTheInterpolatedTruthAndJacobiansMatch) 
   }
 }
 
+TEST(GpProjectionFactor, ASharedSegmentCacheGivesBitIdenticalResultsAndComputesOncePerEvaluationPoint) {
+  std::mt19937 rng(11);
+  const KnotPair p = randomKnotPair(rng, 0.2);
+  auto cache = std::make_shared<SegmentCache>();
+  std::vector<std::vector<double>> values = {poseBlock(p.T_k), vecBlock(p.w_k), poseBlock(p.T_k1), vecBlock(p.w_k1),
+                                             {0.2, -0.1, 3.0}};
+  auto evaluate = [&](const GpProjectionFactor& f, Eigen::Vector2d& r, std::array<std::vector<double>, 5>& J) {
+    const double* params[] = {values[0].data(), values[1].data(), values[2].data(), values[3].data(),
+                              values[4].data()};
+    const int sizes[] = {7, 6, 7, 6, 3};
+    double* jac[5];
+    for (int i = 0; i < 5; ++i) {
+      J[static_cast<std::size_t>(i)].assign(static_cast<std::size_t>(2 * sizes[i]), 0.0);
+      jac[i] = J[static_cast<std::size_t>(i)].data();
+    }
+    return f.Evaluate(params, r.data(), jac);
+  };
+  for (int pass = 0; pass < 2; ++pass) {
+    for (double s : {0.1, 0.5, 0.9}) {
+      const gp::InterpolationWeights weights = gp::interpolationWeights(s * p.dt, p.dt);
+      const GpProjectionFactor plain(Eigen::Vector2d(0.05, -0.02), weights, 0.005);
+      GpProjectionFactor cached(Eigen::Vector2d(0.05, -0.02), weights, 0.005);
+      cached.setSegmentCache(cache);
+      Eigen::Vector2d r_plain, r_cached;
+      std::array<std::vector<double>, 5> J_plain, J_cached;
+      ASSERT_TRUE(evaluate(plain, r_plain, J_plain));
+      ASSERT_TRUE(evaluate(cached, r_cached, J_cached));
+      EXPECT_EQ(r_plain, r_cached) << "pass " << pass << " s " << s;
+      for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(J_plain[i], J_cached[i]) << "block " << i;
+    }
+    // The second pass is at another evaluation point: the knots moved.
+    values[2][0] += 0.01;
+    values[3][4] -= 0.02;
+  }
+  // Three measurements per pass share one computation.
+  EXPECT_EQ(cache->computed(), 2u);
+  EXPECT_EQ(cache->reused(), 4u);
+}
+
 TEST(GpProjectionFactor, FailsBehindTheCamera) {
   const gp::InterpolationWeights weights = gp::interpolationWeights(0.01, 0.05);
   const GpProjectionFactor factor(Eigen::Vector2d(0.1, 0.1), weights, 0.01);

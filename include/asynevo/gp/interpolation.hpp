@@ -56,6 +56,29 @@ inline Mat12 lambdaMatrix(double tau, double dt, const Mat6& Q_c) {
   return transition(tau) - psiMatrix(tau, dt, Q_c) * transition(dt);
 }
 
+/// The part of the interpolation that depends on the knots only, the same for every time in the
+/// segment: ξ = Log(T_k⁻¹ T_{k+1}), J⁻¹ = J_r⁻¹(ξ), J⁻¹ϖ_{k+1}, and for the Jacobians A1 = J_l⁻¹(ξ) and
+/// M = ∂(J_r⁻¹(ξ)ϖ_{k+1})/∂ξ. The GP projection factors of one segment share it (SegmentCache).
+struct SegmentTerms {
+  Vec6 xi = Vec6::Zero();
+  Vec6 J_inv_w_k1 = Vec6::Zero();
+  Mat6 J_inv = Mat6::Identity();
+  Mat6 A1 = Mat6::Identity();
+  Mat6 M = Mat6::Zero();
+  bool with_jacobians = false;
+};
+
+inline SegmentTerms segmentTerms(const SE3& T_k, const SE3& T_k1, const Vec6& w_k1, bool with_jacobians,
+                                 int series_order = kDefaultSeriesOrder) {
+  SegmentTerms terms;
+  terms.with_jacobians = with_jacobians;
+  terms.xi = lie::se3::log(T_k.inverse() * T_k1);
+  lie::se3::inverseJacobians(terms.xi, with_jacobians ? &terms.A1 : nullptr, &terms.J_inv);
+  terms.J_inv_w_k1 = terms.J_inv * w_k1;
+  if (with_jacobians) terms.M = dJrInvTimesVecDxi(terms.xi, w_k1, series_order);
+  return terms;
+}
+
 /// Interpolated pose T(τ) = T_k Exp(ξ_τ), ξ_τ = Λ12 ϖ_k + Ψ11 ξ + Ψ12 J_r⁻¹(ξ) ϖ_{k+1},
 /// ξ = Log(T_k⁻¹ T_{k+1}); and the chain rule from a right perturbation δ_τ of T(τ) to the knot
 /// variables (right perturbations δ_k, δ_{k+1}; additive ϖ_k, ϖ_{k+1}):
@@ -68,17 +91,22 @@ class PoseInterpolator {
   PoseInterpolator(const SE3& T_k, const Vec6& w_k, const SE3& T_k1, const Vec6& w_k1,
                    const InterpolationWeights& weights, bool with_jacobians = true,
                    int series_order = kDefaultSeriesOrder)
-      : weights_(weights) {
-    xi_ = lie::se3::log(T_k.inverse() * T_k1);
-    lie::se3::inverseJacobians(xi_, with_jacobians ? &A1_ : nullptr, &J_inv_);
-    J_inv_w_k1_ = J_inv_ * w_k1;
+      : PoseInterpolator(T_k, w_k, segmentTerms(T_k, T_k1, w_k1, with_jacobians, series_order), weights) {}
+
+  /// From the segment's knot-only terms (computed once per segment, see SegmentTerms).
+  PoseInterpolator(const SE3& T_k, const Vec6& w_k, const SegmentTerms& segment, const InterpolationWeights& weights)
+      : weights_(weights),
+        has_jacobians_(segment.with_jacobians),
+        xi_(segment.xi),
+        J_inv_w_k1_(segment.J_inv_w_k1),
+        J_inv_(segment.J_inv),
+        A1_(segment.A1),
+        M_(segment.M) {
     xi_tau_ = weights.lambda12 * w_k + weights.psi11 * xi_ + weights.psi12 * J_inv_w_k1_;
     T_k_tau_ = lie::se3::exp(xi_tau_);
     T_tau_ = T_k * T_k_tau_;
-    if (with_jacobians) {
-      has_jacobians_ = true;
+    if (has_jacobians_) {
       J_tau_ = lie::se3::rightJacobian(xi_tau_);
-      M_ = dJrInvTimesVecDxi(xi_, w_k1, series_order);
       W_ = weights.psi12 * M_;
       W_.diagonal().array() += weights.psi11;
     }
@@ -134,14 +162,14 @@ class PoseInterpolator {
   InterpolationWeights weights_;
   bool has_jacobians_ = false;
   Vec6 xi_;
-  Vec6 xi_tau_;
   Vec6 J_inv_w_k1_;
-  SE3 T_k_tau_;  // Exp(ξ_τ)
-  SE3 T_tau_;
   Mat6 J_inv_ = Mat6::Identity();
-  Mat6 J_tau_ = Mat6::Identity();
   Mat6 A1_ = Mat6::Identity();
   Mat6 M_ = Mat6::Zero();
+  Vec6 xi_tau_;
+  SE3 T_k_tau_;  // Exp(ξ_τ)
+  SE3 T_tau_;
+  Mat6 J_tau_ = Mat6::Identity();
   Mat6 W_ = Mat6::Zero();  // Ψ11 I + Ψ12 M
 };
 

@@ -21,9 +21,12 @@ bool GpProjectionFactor::Evaluate(double const* const* parameters, double* resid
       jacobians != nullptr && (jacobians[0] != nullptr || jacobians[1] != nullptr ||
                                jacobians[2] != nullptr || jacobians[3] != nullptr || jacobians[4] != nullptr);
   const Eigen::Map<const gp::Vec6> w_k(parameters[1]);
-  const gp::PoseInterpolator interp(poseFromBlock(parameters[0]), w_k, poseFromBlock(parameters[2]),
-                                    Eigen::Map<const gp::Vec6>(parameters[3]), weights_, any_jacobian,
-                                    series_order_);
+  const lie::SE3 T_k = poseFromBlock(parameters[0]);
+  const gp::SegmentTerms segment =
+      cache_ ? cache_->terms(parameters[0], parameters[2], parameters[3], any_jacobian, series_order_)
+             : gp::segmentTerms(T_k, poseFromBlock(parameters[2]), Eigen::Map<const gp::Vec6>(parameters[3]),
+                                any_jacobian, series_order_);
+  const gp::PoseInterpolator interp(T_k, w_k, segment, weights_);
   const lie::SE3& T_tau = interp.pose();
   const Eigen::Map<const Eigen::Vector3d> p_w(parameters[4]);
   const Eigen::Matrix3d R_t = T_tau.rotation().transpose();

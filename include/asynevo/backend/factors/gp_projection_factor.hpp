@@ -15,7 +15,9 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 
+#include "asynevo/backend/factors/segment_cache.hpp"
 #include "asynevo/gp/interpolation.hpp"
 
 namespace asynevo::backend {
@@ -34,6 +36,10 @@ class GpProjectionFactor final : public ceres::SizedCostFunction<2, 7, 6, 7, 6, 
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
 
+  /// Shares the knot-only interpolation terms with the other factors of the same segment (optional;
+  /// the results are the same with or without).
+  void setSegmentCache(std::shared_ptr<SegmentCache> cache) { cache_ = std::move(cache); }
+
   const Eigen::Vector2d& measurement() const { return z_; }
   const gp::InterpolationWeights& weights() const { return weights_; }
 
@@ -43,6 +49,7 @@ class GpProjectionFactor final : public ceres::SizedCostFunction<2, 7, 6, 7, 6, 
   double inv_sigma_;
   double min_depth_;
   int series_order_;
+  std::shared_ptr<SegmentCache> cache_;
 };
 
 }  // namespace asynevo::backend
