@@ -1,6 +1,7 @@
 #include "asynevo/backend/factors/gp_projection_factor.hpp"
 
 #include "asynevo/backend/factors/pose_block.hpp"
+#include "asynevo/backend/factors/projection_residual.hpp"
 #include "asynevo/core/time.hpp"
 
 namespace asynevo::backend {
@@ -31,19 +32,10 @@ bool GpProjectionFactor::Evaluate(double const* const* parameters, double* resid
   const Eigen::Map<const Eigen::Vector3d> p_w(parameters[4]);
   const Eigen::Matrix3d R_t = T_tau.rotation().transpose();
   const Eigen::Vector3d p_c = R_t * (p_w - T_tau.translation());
-  if (!(p_c.z() > min_depth_)) return false;  // cheirality (also rejects NaN)
-
-  const double inv_z = 1.0 / p_c.z();
-  const double u = p_c.x() * inv_z;
-  const double v = p_c.y() * inv_z;
-  residuals[0] = (u - z_.x()) * inv_sigma_;
-  residuals[1] = (v - z_.y()) * inv_sigma_;
-  if (!any_jacobian) return true;
-
-  // (1/σ) Jπ, Jπ = [1/z 0 −x/z²; 0 1/z −y/z²].
   Eigen::Matrix<double, 2, 3> d_r_d_pc;
-  const double s = inv_sigma_ * inv_z;
-  d_r_d_pc << s, 0.0, -s * u, 0.0, s, -s * v;
+  if (!projectionResidual(p_c, z_, inv_sigma_, min_depth_, residuals, any_jacobian ? &d_r_d_pc : nullptr))
+    return false;  // cheirality (also rejects NaN)
+  if (!any_jacobian) return true;
 
   if (jacobians[4] != nullptr) {
     Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>>{jacobians[4]} = d_r_d_pc * R_t;
