@@ -344,7 +344,13 @@ void Frontend::onStateChange(int slot, int64_t t_ns, MeasurementSink& sink) {
   m.t_ns = st.t_ns;
   m.x = st.x;
   m.y = st.y;
-  if (!normalize(st.x, st.y, m.xn, m.yn)) {
+  if (config_.subpixel_measurements) {
+    float dx = 0.f, dy = 0.f;
+    tracker.subpixelOffset(dx, dy);
+    m.x += dx;
+    m.y += dy;
+  }
+  if (!normalize(m.x, m.y, m.xn, m.yn)) {
     ++stats_.measurements_without_undistortion;
     return;
   }

@@ -336,6 +336,22 @@ TrackerResult HasteTracker::pushInRange(int64_t t_ns, float x, float y) {
   return switched ? TrackerResult::kStateChanged : TrackerResult::kRegular;
 }
 
+namespace {
+// Vertex of the parabola through (−1, minus), (0, zero), (+1, plus); 0 unless it is a maximum.
+float parabolaVertex(double minus, double zero, double plus) {
+  const double curvature = minus - 2.0 * zero + plus;
+  if (!(curvature < 0.0)) return 0.f;
+  const double offset = 0.5 * (minus - plus) / curvature;
+  return static_cast<float>(std::clamp(offset, -0.5, 0.5));
+}
+}  // namespace
+
+void HasteTracker::subpixelOffset(float& dx, float& dy) const {
+  // kOffsets: 1 = +x, 2 = −x, 3 = +y, 4 = −y (image axes).
+  dx = parabolaVertex(scores_[2], scores_[0], scores_[1]);
+  dy = parabolaVertex(scores_[4], scores_[0], scores_[3]);
+}
+
 // ---- HasteDifference* ----------------------------------------------------------------------------
 
 HasteDifferenceStar::HasteDifferenceStar(const HasteParams& params)

@@ -126,6 +126,10 @@ class HasteTracker {
   /// Ratio of the smaller to the larger eigenvalue of the covariance of the window events' positions
   /// (1 = isotropic spread, ~0 = events on a line: an edge, where the tracker can slide).
   float windowAnisotropy() const;
+  /// Sub-pixel offset of the best match from the state, x and y apart: the vertex of the parabola
+  /// through the scores of the −1, 0, +1 px hypotheses, δ = (s₋ − s₊) / (2 (s₋ − 2 s₀ + s₊)), clamped
+  /// to ±0.5 px; 0 where the scores are not concave (no maximum between the neighbours).
+  void subpixelOffset(float& dx, float& dy) const;
   /// In-range events since the last state change, and state changes since reset.
   uint32_t eventsSinceChange() const { return events_since_change_; }
   uint32_t stateChanges() const { return state_changes_; }

@@ -39,6 +39,9 @@ struct FrontendConfig {
   double drift_check_ms = 10.0;       ///< event-time period of a feature's drift test
   double max_rotation_deg = 20.0;     ///< rotation test: max departure from the features' common roll (0 = off)
   double max_time_reversal_us = 0.0;  ///< events earlier than their predecessor by more are dropped
+  /// Measurements at the vertex of a parabola through the scores of the ±1 px hypotheses (x and y
+  /// apart) instead of the 1-px state grid.
+  bool subpixel_measurements = false;
 
   template <class V>
   void visit(V& v) {
@@ -85,6 +88,9 @@ struct FrontendConfig {
     v("max_time_reversal_us", max_time_reversal_us,
       "events earlier than the newest seen by more than this are dropped and counted; smaller steps "
       "back are processed at the newest time");
+    v("subpixel_measurements", subpixel_measurements,
+      "measurements refined to the vertex of a parabola through the scores of the +-1 px hypotheses "
+      "(false: the tracker's 1-px state)");
   }
   void validate() const;
 };
