@@ -80,12 +80,6 @@ TEST(SlidingWindowEstimator, WithoutParallaxItReportsWhyInitializationFails) {
   EXPECT_TRUE(run.knots.empty());
 }
 
-}  // namespace
-}  // namespace asynevo::backend
-
-namespace asynevo::backend {
-namespace {
-
 TEST(SlidingWindowEstimator, RejectsWholeTrajectoriesThatAreNoFixedScenePoint) {
   const testing::SyntheticScene scene(150);
   const double duration = 2.5;
@@ -128,12 +122,6 @@ TEST(SlidingWindowEstimator, RejectsWholeTrajectoriesThatAreNoFixedScenePoint) {
   const double ate_with = accuracy(with.knots).ate_rmse, ate_without = accuracy(without.knots).ate_rmse;
   EXPECT_LT(ate_with, ate_without) << "rejecting the sliding corners should help";
 }
-
-}  // namespace
-}  // namespace asynevo::backend
-
-namespace asynevo::backend {
-namespace {
 
 TEST(SlidingWindowEstimator, ForcedMarginalizationKeepsOrDropsTheMeasurementsOfActiveLandmarksByMode) {
   // A window (N_max = 6 knots, 0.25 s) shorter than the synthetic tracks (0.4 s): marginalizations are
