@@ -43,7 +43,7 @@ REPO_DIR = os.path.dirname(TOOLS_DIR)
 sys.path.insert(0, TOOLS_DIR)
 # plot_run selects matplotlib's Agg backend, and exits with an installation hint when Debian's
 # python3-numpy / python3-matplotlib are missing.
-from plot_run import load_table  # noqa: E402
+from plot_run import load_table, save  # noqa: E402
 import numpy as np  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 
@@ -401,10 +401,7 @@ def legend(ax, **kw):
 
 
 def save_fig(fig, fig_dir, name):
-    path = os.path.join(fig_dir, name)
-    fig.savefig(path, dpi=80)
-    plt.close(fig)
-    return path
+    return save(fig, fig_dir, name, dpi=80)
 
 
 def runs_of(results, seq_name):

@@ -206,9 +206,9 @@ class Run:
         return self.align[3] if self.align else "not aligned"
 
 
-def save(fig, out_dir, name):
+def save(fig, out_dir, name, dpi=110):
     path = os.path.join(out_dir, name)
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=dpi)
     plt.close(fig)
     return path
 
