@@ -149,6 +149,10 @@ void frontendBench(benchmark::State& state, const std::string& tracker) {
     config.max_drift_px = 0;
     config.max_rotation_deg = 0;
   }
+  if (state.range(2) == 2) {  // with the neighbour-motion test (off by default), at the tested setting
+    config.max_neighbour_disagreement_px = 4;
+    config.neighbour_window_ms = 60;
+  }
   const CameraModel camera =
       readEcdCalibration(std::string(ASYNEVO_SOURCE_DIR) + "/tests/data/ecd/shapes_rotation/calib.txt");
   const auto table = camera.undistortionTable<float>();
@@ -172,8 +176,9 @@ void frontendBench(benchmark::State& state, const std::string& tracker) {
   state.counters["detect/ev"] = static_cast<double>(stats.detector_runs) / static_cast<double>(stats.events);
   state.counters["meas/s"] = stats.perSecond(stats.measurements);
   state.counters["created"] = static_cast<double>(stats.features_created);
-  for (DropReason reason : {DropReason::kQuality, DropReason::kDrift, DropReason::kRotation, DropReason::kBorder,
-                            DropReason::kIdle, DropReason::kCollision})
+  for (DropReason reason :
+       {DropReason::kQuality, DropReason::kDrift, DropReason::kRotation, DropReason::kNeighbour,
+        DropReason::kBorder, DropReason::kIdle, DropReason::kCollision})
     state.counters[std::string("drop ") + dropReasonName(reason)] =
         static_cast<double>(stats.features_dropped[static_cast<int>(reason)]);
   state.counters["switch %"] =
@@ -199,6 +204,8 @@ BENCHMARK(BM_FrontendCorrelationStar)
     ->Args({4, 100, 1})
     ->Args({5, 0, 0})
     ->Args({6, 0, 0})
+    ->Args({5, 0, 2})
+    ->Args({6, 0, 2})
     ->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -34,6 +34,8 @@ const char* dropReasonName(DropReason reason) {
       return "drift";
     case DropReason::kRotation:
       return "rotation";
+    case DropReason::kNeighbour:
+      return "neighbour";
   }
   return "?";
 }
@@ -69,6 +71,7 @@ std::string FrontendStats::summary() const {
     s += fmt::format(" {}={}", dropReasonName(static_cast<DropReason>(r)), features_dropped[r]);
   s += fmt::format("\nmeasurements      {} ({:.0f}/s), {} without undistortion\n", measurements,
                    perSecond(measurements), measurements_without_undistortion);
+  if (neighbour_tests > 0) s += fmt::format("neighbour test    {} feature evaluations\n", neighbour_tests);
   return s;
 }
 
@@ -172,6 +175,8 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
       init_timeout_ns_(msToNs(config.init_timeout_ms)),
       housekeeping_ns_(std::max<int64_t>(1, msToNs(config.housekeeping_ms))),
       drift_check_ns_(std::max<int64_t>(1, msToNs(config.drift_check_ms))),
+      neighbour_check_ns_(std::max<int64_t>(1, msToNs(config.neighbour_check_ms))),
+      neighbour_window_ns_(std::max<int64_t>(1, msToNs(config.neighbour_window_ms))),
       max_rotation_rad_(static_cast<float>(config.max_rotation_deg * kPi / 180.0)),
       border_margin_(static_cast<float>(config.border_margin_px)) {
   config.validate();
@@ -182,10 +187,18 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
   free_slots_.reserve(slots_.size());
   for (int i = static_cast<int>(slots_.size()) - 1; i >= 0; --i) {
     slots_[i].tracker = makeHasteTracker(haste);
+    if (config.max_neighbour_disagreement_px > 0) slots_[i].history.resize(kHistoryCapacity);
     free_slots_.push_back(i);
   }
   changed_.reserve(slots_.size());
   roll_scratch_.resize(slots_.size());
+  if (config.max_neighbour_disagreement_px > 0) {
+    candidates_.reserve(slots_.size());
+    neighbour_d2_.reserve(slots_.size());
+    neighbour_dx_.reserve(slots_.size());
+    neighbour_dy_.reserve(slots_.size());
+    neighbour_drops_.reserve(slots_.size());
+  }
 }
 
 Frontend::~Frontend() = default;
@@ -243,6 +256,7 @@ void Frontend::process(const Event& input, MeasurementSink& sink) {
     newest_t_ns_ = t;
     last_housekeeping_ns_ = t;
     next_housekeeping_ns_ = t + housekeeping_ns_;
+    next_neighbour_check_ns_ = t + neighbour_check_ns_;
   } else if (t < newest_t_ns_) {
     if (newest_t_ns_ - t > max_reversal_ns_) {
       ++stats_.dropped_time_reversal;
@@ -301,6 +315,17 @@ void Frontend::onStateChange(int slot, int64_t t_ns, MeasurementSink& sink) {
         st.y <= float(height_ - 1) - border_margin_))
     return drop(slot, DropReason::kBorder, t_ns, sink);
   s.last_change_ns = t_ns;
+  if (!s.history.empty()) {  // neighbour-motion test enabled: remember the state
+    const int cap = static_cast<int>(s.history.size());
+    int index;
+    if (s.history_size < cap) {
+      index = (s.history_head + s.history_size++) % cap;
+    } else {
+      index = s.history_head;
+      s.history_head = (s.history_head + 1) % cap;
+    }
+    s.history[static_cast<std::size_t>(index)] = PositionSample{st.t_ns, st.x, st.y};
+  }
   if (tracker.stateChanges() == 1) {  // initialization: the template's frame starts at the common roll
     s.roll_at_init = common_roll_;
     s.next_drift_check_ns = t_ns + drift_check_ns_;
@@ -386,6 +411,8 @@ void Frontend::trySeed(const Event& e) {
   s.last_change_ns = e.t_ns;
   s.recorded = false;
   s.measurements = 0;
+  s.history_head = 0;
+  s.history_size = 0;
   s.tracker->reset(e.t_ns, x, y);
   s.tracker->push(e.t_ns, x, y);  // the seed event is the first of its window
   s.reg_index = e.y * width_ + e.x;
@@ -422,7 +449,8 @@ void Frontend::updateCommonRoll() {
   // so the median is taken away from the wrap-around).
   int n = 0;
   for (const Slot& s : slots_)
-    if (s.id >= 0 && s.tracker->initialized()) roll_scratch_[static_cast<std::size_t>(n++)] = rollDeparture(s);
+    if (s.id >= 0 && s.tracker->initialized())
+      roll_scratch_[static_cast<std::size_t>(n++)] = rollDeparture(s);
   if (n < 3) return;  // too few features for a robust common value
   const auto mid = roll_scratch_.begin() + n / 2;
   std::nth_element(roll_scratch_.begin(), mid, roll_scratch_.begin() + n);
@@ -451,6 +479,104 @@ void Frontend::housekeeping(int64_t t_ns, MeasurementSink& sink) {
       if (tracker.firstTemplateDrift() > config_.max_drift_px) drop(slot, DropReason::kDrift, t_ns, sink);
     }
   }
+  if (config_.max_neighbour_disagreement_px > 0 && t_ns >= next_neighbour_check_ns_) {
+    next_neighbour_check_ns_ = t_ns + neighbour_check_ns_;
+    neighbourCheck(t_ns, sink);
+  }
+}
+
+bool Frontend::positionAt(const Slot& s, int64_t t_ns, float& x, float& y) const {
+  const int cap = static_cast<int>(s.history.size());
+  if (s.history_size == 0) return false;
+  auto at = [&](int i) -> const PositionSample& {
+    return s.history[static_cast<std::size_t>((s.history_head + i) % cap)];
+  };
+  if (at(0).t_ns > t_ns) return false;  // not tracked (or not remembered) that far back
+  // Newest sample at or before t (state times of one feature never decrease).
+  int i = s.history_size - 1;
+  while (at(i).t_ns > t_ns) --i;
+  const PositionSample& a = at(i);
+  if (i == s.history_size - 1) {  // no state change since: still there
+    x = a.x;
+    y = a.y;
+    return true;
+  }
+  const PositionSample& b = at(i + 1);
+  // The state moves in 1-px steps at its state changes; between two changes the feature moved
+  // steadily from one to the next, so interpolate linearly (the half-step offset this implies is the same
+  // at both ends of a displacement and cancels).
+  const float w =
+      b.t_ns > a.t_ns ? static_cast<float>(t_ns - a.t_ns) / static_cast<float>(b.t_ns - a.t_ns) : 1.f;
+  x = a.x + w * (b.x - a.x);
+  y = a.y + w * (b.y - a.y);
+  return true;
+}
+
+void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
+  // Neighbour-motion consistency (docs/frontend.md §Neighbour-motion test). Nearby points of a scene move
+  // alike in the image (the motion field is smooth away from depth discontinuities), while a tracker
+  // creeping around a soft blob, lagging behind a fast motion or jumping to a similar structure does not
+  // follow its neighbours. Each initialized feature's displacement over [t_a, t_b], t_b = now - lag,
+  // t_a = max(t_b - window, its first state), is compared with the component-wise median displacement of
+  // its k nearest features over the same interval (features within a radius that were tracked at t_a).
+  // The median makes the reference robust to a minority of bad neighbours, as in the Median Flow tracker
+  // (Kalal, Mikolajczyk, Matas, "Forward-backward error: automatic detection of tracking failures", ICPR
+  // 2010). All residuals are computed before any drop.
+  const int64_t tb = t_ns - kNeighbourLagNs;
+  candidates_.clear();
+  for (int slot = 0; slot < static_cast<int>(slots_.size()); ++slot) {
+    const Slot& s = slots_[slot];
+    if (s.id < 0 || !s.tracker->initialized() || s.history_size == 0) continue;
+    const int64_t first = s.history[static_cast<std::size_t>(s.history_head)].t_ns;
+    if (first > tb - kNeighbourMinSpanNs) continue;
+    const TrackerState& st = s.tracker->state();
+    candidates_.push_back(Candidate{slot, st.x, st.y, first});
+  }
+  const int n = static_cast<int>(candidates_.size());
+  if (n < 4) return;
+  const float radius2 = static_cast<float>(config_.neighbour_radius_px * config_.neighbour_radius_px);
+  const float limit = static_cast<float>(config_.max_neighbour_disagreement_px);
+  auto median = [](std::vector<float>& v) {
+    const std::size_t m = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m), v.end());
+    const float upper = v[m];
+    if (v.size() % 2 == 1) return upper;
+    const float lower = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m));
+    return 0.5f * (lower + upper);
+  };
+  neighbour_drops_.clear();
+  for (int i = 0; i < n; ++i) {
+    const Candidate& c = candidates_[static_cast<std::size_t>(i)];
+    const int64_t ta = std::max(tb - neighbour_window_ns_, c.first_ns);
+    neighbour_d2_.clear();
+    for (int j = 0; j < n; ++j) {
+      const Candidate& o = candidates_[static_cast<std::size_t>(j)];
+      if (j == i || o.first_ns > ta) continue;
+      const float d2 = (o.x - c.x) * (o.x - c.x) + (o.y - c.y) * (o.y - c.y);
+      if (d2 <= radius2) neighbour_d2_.emplace_back(d2, j);
+    }
+    if (neighbour_d2_.size() < 3) continue;  // too few neighbours for a robust reference
+    const std::size_t k =
+        std::min<std::size_t>(neighbour_d2_.size(), static_cast<std::size_t>(config_.neighbour_count));
+    std::nth_element(neighbour_d2_.begin(), neighbour_d2_.begin() + static_cast<std::ptrdiff_t>(k - 1),
+                     neighbour_d2_.end());
+    float xa, ya, xb, yb;
+    neighbour_dx_.clear();
+    neighbour_dy_.clear();
+    for (std::size_t m = 0; m < k; ++m) {
+      const Slot& o = slots_[static_cast<std::size_t>(
+          candidates_[static_cast<std::size_t>(neighbour_d2_[m].second)].slot)];
+      if (!positionAt(o, ta, xa, ya) || !positionAt(o, tb, xb, yb)) continue;
+      neighbour_dx_.push_back(xb - xa);
+      neighbour_dy_.push_back(yb - ya);
+    }
+    const Slot& s = slots_[static_cast<std::size_t>(c.slot)];
+    if (neighbour_dx_.size() < 3 || !positionAt(s, ta, xa, ya) || !positionAt(s, tb, xb, yb)) continue;
+    ++stats_.neighbour_tests;
+    const float ex = (xb - xa) - median(neighbour_dx_), ey = (yb - ya) - median(neighbour_dy_);
+    if (ex * ex + ey * ey > limit * limit) neighbour_drops_.push_back(c.slot);
+  }
+  for (int slot : neighbour_drops_) drop(slot, DropReason::kNeighbour, t_ns, sink);
 }
 
 void Frontend::finish(MeasurementSink& sink) {

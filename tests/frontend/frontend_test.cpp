@@ -183,5 +183,21 @@ TEST(Frontend, UndistortionTableGivesNormalizedCoordinates) {
   EXPECT_THROW(Frontend(FrontendConfig{}, 41, 30, table), asynevo::Error);
 }
 
+// The neighbour-motion test's parameters are range-checked (docs/frontend.md §Neighbour-motion test).
+TEST(Frontend, NeighbourMotionTestParametersAreValidated) {
+  FrontendConfig c;
+  c.max_neighbour_disagreement_px = 4;
+  EXPECT_NO_THROW(Frontend(c, 64, 48));
+  FrontendConfig few = c;
+  few.neighbour_count = 2;  // a median of fewer than 3 is not robust
+  EXPECT_THROW(few.validate(), ConfigError);
+  FrontendConfig long_window = c;
+  long_window.neighbour_window_ms = 500;  // beyond the remembered history
+  EXPECT_THROW(long_window.validate(), ConfigError);
+  FrontendConfig negative = c;
+  negative.max_neighbour_disagreement_px = -1;
+  EXPECT_THROW(negative.validate(), ConfigError);
+}
+
 }  // namespace
 }  // namespace asynevo::frontend

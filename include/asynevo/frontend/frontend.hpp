@@ -11,7 +11,9 @@
 //  4. every housekeeping period of event time drop features that are idle, that never initialized,
 //     or that fail a quality test: window events spread along a line (an edge, where HASTE slides),
 //     drift from the first template (a reference the tracker cannot pull along), or a patch rotation
-//     inconsistent with the common rotation of all features (sliding around a curved contour).
+//     inconsistent with the common rotation of all features (sliding around a curved contour);
+//  5. every neighbour_check_ms (when enabled) drop features whose recent displacement disagrees with the
+//     median displacement of their nearest neighbours (creeping over a soft texture).
 // Trackers work in raw pixel coordinates; measurements carry raw pixels and normalized undistorted
 // coordinates interpolated from an injected per-pixel undistortion table.
 // After construction nothing is allocated per event (trackers live in a fixed pool).
@@ -43,8 +45,9 @@ enum class DropReason : uint8_t {
   kFinished,     ///< the stream ended (finish())
   kDrift,        ///< its window matches its first template away from its state (slid or lost)
   kRotation,     ///< its patch rotated away from the features' common rotation (slid around a curve)
+  kNeighbour,    ///< its recent displacement disagrees with its nearest neighbours' (neighbour-motion test)
 };
-constexpr int kDropReasonCount = 9;
+constexpr int kDropReasonCount = 10;
 const char* dropReasonName(DropReason reason);
 
 struct FeatureEnd {
@@ -85,6 +88,7 @@ struct FrontendStats {
   uint64_t measurements = 0;
   uint64_t measurements_without_undistortion = 0;  ///< skipped: invalid undistortion table entry
   uint64_t features_created = 0;
+  uint64_t neighbour_tests = 0;  ///< features evaluated by the neighbour-motion test (all checks)
   std::array<uint64_t, kDropReasonCount> features_dropped{};
   int active_features = 0;
   int max_active_features = 0;
@@ -140,6 +144,22 @@ class Frontend {
   bool normalize(float x, float y, float& xn, float& yn) const;
 
  private:
+  struct PositionSample {
+    int64_t t_ns;
+    float x, y;
+  };
+  static constexpr int kHistoryCapacity = 128;
+  /// Neighbour-motion test: displacements are compared over [now - lag - window, now - lag] so that the
+  /// trackers' states (middle-of-window times, ~96 in-range events behind the newest event) have caught up.
+  static constexpr int64_t kNeighbourLagNs = 10'000'000;
+  /// A feature younger than the window is compared over its own life, once that is this long.
+  static constexpr int64_t kNeighbourMinSpanNs = 10'000'000;
+  struct Candidate {  ///< a feature taking part in one neighbour-motion check
+    int slot;
+    float x, y;        ///< current position (neighbour search)
+    int64_t first_ns;  ///< state time of its oldest remembered position
+  };
+
   struct Slot {
     std::unique_ptr<HasteTracker> tracker;
     int64_t id = -1;  ///< -1: free
@@ -153,6 +173,11 @@ class Frontend {
     uint32_t measurements = 0;
     int64_t next_drift_check_ns = 0;
     float roll_at_init = 0.f;  ///< common roll when its tracker initialized
+    /// Ring of its recent states (state time, position), one per state change, for the neighbour-motion
+    /// test; allocated once (kHistoryCapacity).
+    std::vector<PositionSample> history;
+    int history_head = 0;  ///< index of the oldest sample
+    int history_size = 0;
   };
   /// id -> slot, open addressing with linear probing; fixed capacity, no allocation after construction.
   class IdMap {
@@ -177,6 +202,10 @@ class Frontend {
   /// A feature's rotation since initialization minus the common rotation since then (wrapped).
   float rollDeparture(const Slot& s) const;
   void onStateChange(int slot, int64_t t_ns, MeasurementSink& sink);
+  /// Position of a feature at state time t from its history (linear between state changes); false when
+  /// its history does not reach back to t.
+  bool positionAt(const Slot& s, int64_t t_ns, float& x, float& y) const;
+  void neighbourCheck(int64_t t_ns, MeasurementSink& sink);
   void trySeed(const Event& e);
   void drop(int slot, DropReason reason, int64_t t_ns, MeasurementSink& sink);
   void cellInsert(int slot, int cell);
@@ -201,6 +230,12 @@ class Frontend {
   std::vector<std::pair<int, int64_t>> changed_;  ///< (slot, id) whose state changed on this event
   std::vector<float> roll_scratch_;  ///< per-slot values for the median of the common roll, allocated once
   float common_roll_ = 0.f;          ///< median in-plane rotation of the features (radians, wrapped)
+  // Neighbour-motion test scratch, allocated once.
+  std::vector<Candidate> candidates_;
+  std::vector<std::pair<float, int>> neighbour_d2_;
+  std::vector<float> neighbour_dx_, neighbour_dy_;
+  std::vector<int> neighbour_drops_;
+  int64_t next_neighbour_check_ns_ = 0;
   int64_t next_id_ = 0;
   int64_t newest_t_ns_ = 0;
   bool started_ = false;
@@ -213,6 +248,8 @@ class Frontend {
   int64_t init_timeout_ns_;
   int64_t housekeeping_ns_;
   int64_t drift_check_ns_;
+  int64_t neighbour_check_ns_;
+  int64_t neighbour_window_ns_;
   float max_rotation_rad_;
   float border_margin_;
   FrontendStats stats_;

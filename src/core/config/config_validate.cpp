@@ -53,6 +53,11 @@ void FrontendConfig::validate() const {
   requireRange("frontend.max_drift_px", max_drift_px, 0.0, 6.0);
   requireRange("frontend.drift_check_ms", drift_check_ms, 0.001, 1e6);
   requireRange("frontend.max_rotation_deg", max_rotation_deg, 0.0, 180.0);
+  requireRange("frontend.max_neighbour_disagreement_px", max_neighbour_disagreement_px, 0.0, 1000.0);
+  requireRange("frontend.neighbour_check_ms", neighbour_check_ms, 0.1, 1e6);
+  requireRange("frontend.neighbour_window_ms", neighbour_window_ms, 1.0, 100.0);
+  requireRange("frontend.neighbour_count", neighbour_count, 3, 32);
+  requireRange("frontend.neighbour_radius_px", neighbour_radius_px, 1.0, 10000.0);
   requireRange("frontend.max_time_reversal_us", max_time_reversal_us, 0.0, 1e9);
 }
 

@@ -22,22 +22,29 @@ struct FrontendConfig {
 
   // --- tracker ----------------------------------------------------------------------------------
   std::string tracker = "haste_correlation_star";  ///< or "haste_difference_star" (docs/frontend.md: why C*)
-  double haste_hysteresis = 0.05;                 ///< (ref) hysteresis factor of the state switch
-  double haste_template_update = 0.1;             ///< (ref) template update factor alpha (0 = frozen)
+  double haste_hysteresis = 0.05;                  ///< (ref) hysteresis factor of the state switch
+  double haste_template_update = 0.1;              ///< (ref) template update factor alpha (0 = frozen)
 
   // --- feature management -----------------------------------------------------------------------
-  int max_features = 60;              ///< active features at most (seeding stops at this number)
-  double min_distance_px = 15.0;      ///< patch search: no new feature within this of an active one
-  double border_margin_px = 16.0;     ///< features are removed (and never seeded) this close to the border
-  double collision_radius_px = 1.5;   ///< two features closer than this: the younger one is dropped
-  double min_dt_ms = 5.0;             ///< minimum event time between two recorded measurements of a feature
-  double max_idle_ms = 100.0;         ///< a feature without state change for this long is dropped
-  double init_timeout_ms = 100.0;     ///< a tracker not initialized after this long is dropped
-  double housekeeping_ms = 1.0;       ///< period (event time) of the idle/time-out/quality checks
-  double min_anisotropy = 0.06;       ///< quality: min eigenvalue ratio of the window events' spread
-  double max_drift_px = 2.0;          ///< drift test: max offset of the first-template match (0 = off)
-  double drift_check_ms = 10.0;       ///< event-time period of a feature's drift test
-  double max_rotation_deg = 20.0;     ///< rotation test: max departure from the features' common roll (0 = off)
+  int max_features = 60;             ///< active features at most (seeding stops at this number)
+  double min_distance_px = 15.0;     ///< patch search: no new feature within this of an active one
+  double border_margin_px = 16.0;    ///< features are removed (and never seeded) this close to the border
+  double collision_radius_px = 1.5;  ///< two features closer than this: the younger one is dropped
+  double min_dt_ms = 5.0;            ///< minimum event time between two recorded measurements of a feature
+  double max_idle_ms = 100.0;        ///< a feature without state change for this long is dropped
+  double init_timeout_ms = 100.0;    ///< a tracker not initialized after this long is dropped
+  double housekeeping_ms = 1.0;      ///< period (event time) of the idle/time-out/quality checks
+  double min_anisotropy = 0.06;      ///< quality: min eigenvalue ratio of the window events' spread
+  double max_drift_px = 2.0;         ///< drift test: max offset of the first-template match (0 = off)
+  double drift_check_ms = 10.0;      ///< event-time period of a feature's drift test
+  double max_rotation_deg = 20.0;  ///< rotation test: max departure from the features' common roll (0 = off)
+  /// Neighbour-motion test: a feature whose displacement over the last neighbour_window_ms differs by more
+  /// than this from the median displacement of its neighbour_count nearest features is dropped (0 = off).
+  double max_neighbour_disagreement_px = 0.0;
+  double neighbour_check_ms = 5.0;  ///< event-time period of the neighbour-motion test (all features at once)
+  double neighbour_window_ms = 60.0;  ///< time span of the compared displacements (<= 100)
+  int neighbour_count = 6;            ///< nearest features whose median displacement is the reference
+  double neighbour_radius_px = 60.0;  ///< only features within this distance count as neighbours
   double max_time_reversal_us = 0.0;  ///< events earlier than their predecessor by more are dropped
   /// Measurements at the vertex of a parabola through the scores of the ±1 px hypotheses (x and y
   /// apart) instead of the 1-px state grid.
@@ -85,6 +92,17 @@ struct FrontendConfig {
       "rotation test: a feature is dropped when its patch rotation since initialization departs by more than "
       "this from the common rotation of all features (the median; a rigid scene rotates every patch alike), "
       "the sign of a tracker sliding around a curved contour; 0 disables the test");
+    v("max_neighbour_disagreement_px", max_neighbour_disagreement_px,
+      "neighbour-motion test: a feature is dropped when its displacement over the last neighbour_window_ms "
+      "differs by more than this from the median displacement of its nearest features (a tracker creeping "
+      "over a soft texture moves unlike the scene around it); 0 disables the test");
+    v("neighbour_check_ms", neighbour_check_ms, "event-time period of the neighbour-motion test");
+    v("neighbour_window_ms", neighbour_window_ms,
+      "neighbour-motion test: time span of the compared displacements");
+    v("neighbour_count", neighbour_count,
+      "neighbour-motion test: number of nearest features whose median displacement is the reference");
+    v("neighbour_radius_px", neighbour_radius_px,
+      "neighbour-motion test: only features within this distance count as neighbours (at least 3 needed)");
     v("max_time_reversal_us", max_time_reversal_us,
       "events earlier than the newest seen by more than this are dropped and counted; smaller steps "
       "back are processed at the newest time");
