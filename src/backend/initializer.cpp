@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
@@ -37,88 +38,172 @@ Correspondences correspondences(const TrackMap& tracks, int64_t t_a, int64_t t_b
   return c;
 }
 
-/// Median over the RANSAC inliers of the angle between the ray at t_b and the ray at t_a rotated into
-/// camera b, in pixels (angle × focal): the image motion translation alone would cause.
-double medianParallaxPx(const Correspondences& c, const lie::Mat3& R_b_a, const cv::Mat& inlier_mask,
-                        double focal) {
+lie::Vec3 ray(const cv::Point2d& p) { return lie::Vec3(p.x, p.y, 1.0).normalized(); }
+
+/// Angle between the ray at t_b and the ray at t_a rotated into camera b: the parallax that the
+/// translation alone causes (zero for a point at infinity).
+double parallaxAngle(const lie::Mat3& R_b_a, const cv::Point2d& a, const cv::Point2d& b) {
+  const lie::Vec3 u = R_b_a * ray(a);
+  const lie::Vec3 v = ray(b);
+  return std::atan2(u.cross(v).norm(), u.dot(v));
+}
+
+enum class Chirality { Front, Behind, Undetermined };
+
+/// Where the point seen along `a` and `b` lies for the motion x_b = R x_a + t: the depths along both rays
+/// of the midpoint triangulation (closest points of the two rays, least squares in camera b). A point
+/// whose parallax is below `min_angle` is Undetermined (its depth sign is noise) unless its rays point
+/// away from each other once rotated, which no depth can explain.
+Chirality chirality(const lie::Mat3& R, const lie::Vec3& t, const cv::Point2d& a, const cv::Point2d& b,
+                    double min_angle) {
+  const lie::Vec3 u = R * ray(a);
+  const lie::Vec3 v = ray(b);
+  const double uv = u.dot(v);
+  if (uv <= 0) return Chirality::Behind;
+  if (std::atan2(u.cross(v).norm(), uv) < min_angle) return Chirality::Undetermined;
+  // Minimize |lambda_a u + t - lambda_b v|^2 over the two depths (normal equations, |u| = |v| = 1).
+  const double det = 1.0 - uv * uv;
+  const double ut = u.dot(t), vt = v.dot(t);
+  const double lambda_a = (-ut + uv * vt) / det;
+  const double lambda_b = (vt - uv * ut) / det;
+  return lambda_a > 0 && lambda_b > 0 ? Chirality::Front : Chirality::Behind;
+}
+
+struct PoseFromE {
+  lie::Mat3 R_b_a;
+  lie::Vec3 t_b_a;  ///< unit
+  cv::Mat inliers;  ///< RANSAC inliers not seen behind a camera
+  int count = 0;
+};
+
+lie::Mat3 toEigen3(const cv::Mat& m) {
+  lie::Mat3 out;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) out(i, j) = m.at<double>(i, j);
+  return out;
+}
+
+/// The one of the four decompositions of E (Hartley & Zisserman, Multiple View Geometry, 2nd ed., §9.6.2)
+/// that puts the most RANSAC inliers in front of both cameras. Unlike cv::recoverPose, a point far away
+/// (parallax below `min_angle`) neither votes nor is discarded: with a short baseline most of a scene
+/// can be more than 50 baselines away, and those points still pin the rotation.
+PoseFromE poseFromEssential(const cv::Mat& E, const Correspondences& c, const cv::Mat& ransac_mask,
+                            double min_angle) {
+  cv::Mat R1, R2, t;
+  cv::decomposeEssentialMat(E, R1, R2, t);
+  const lie::Vec3 t_unit(t.at<double>(0), t.at<double>(1), t.at<double>(2));
+  const std::array<lie::Mat3, 2> rotations{toEigen3(R1), toEigen3(R2)};
+  PoseFromE best;
+  int best_front = -1;
+  for (const lie::Mat3& R : rotations) {
+    for (const double sign : {1.0, -1.0}) {
+      const lie::Vec3 t_b_a = sign * t_unit;
+      cv::Mat mask = cv::Mat::zeros(static_cast<int>(c.a.size()), 1, CV_8U);
+      int front = 0, count = 0;
+      for (std::size_t i = 0; i < c.a.size(); ++i) {
+        if (ransac_mask.at<uchar>(static_cast<int>(i)) == 0) continue;
+        const Chirality side = chirality(R, t_b_a, c.a[i], c.b[i], min_angle);
+        if (side == Chirality::Behind) continue;
+        front += side == Chirality::Front;
+        mask.at<uchar>(static_cast<int>(i)) = 1;
+        ++count;
+      }
+      if (front > best_front) {
+        best_front = front;
+        best = PoseFromE{R, t_b_a, mask, count};
+      }
+    }
+  }
+  return best;
+}
+
+/// Median over `mask` of the parallax angle, in pixels (angle × focal).
+double medianParallaxPx(const Correspondences& c, const lie::Mat3& R_b_a, const cv::Mat& mask, double focal) {
   std::vector<double> angles;
   for (std::size_t i = 0; i < c.a.size(); ++i) {
-    if (!inlier_mask.empty() && inlier_mask.at<uchar>(static_cast<int>(i)) == 0) continue;
-    const lie::Vec3 ray_a = R_b_a * lie::Vec3(c.a[i].x, c.a[i].y, 1.0).normalized();
-    const lie::Vec3 ray_b = lie::Vec3(c.b[i].x, c.b[i].y, 1.0).normalized();
-    angles.push_back(std::atan2(ray_a.cross(ray_b).norm(), ray_a.dot(ray_b)));
+    if (mask.at<uchar>(static_cast<int>(i)) != 0) angles.push_back(parallaxAngle(R_b_a, c.a[i], c.b[i]));
   }
   if (angles.empty()) return 0.0;
   std::nth_element(angles.begin(), angles.begin() + angles.size() / 2, angles.end());
   return angles[angles.size() / 2] * focal;
 }
 
+/// How well a span pins the baseline direction: its error shrinks with the parallax and with the square
+/// root of the number of points.
+double score(const TwoViewResult& r) { return r.parallax_px * std::sqrt(static_cast<double>(r.inliers)); }
+
 }  // namespace
+
+TwoViewResult initializeTwoViewSpan(const TrackMap& tracks, int64_t t_a, int64_t t_b, double focal,
+                                    const BackendConfig& config) {
+  TwoViewResult r;
+  r.t_a_ns = t_a;
+  r.t_b_ns = t_b;
+  const Correspondences c = correspondences(tracks, t_a, t_b, focal);
+  const int n = static_cast<int>(c.a.size());
+  r.features = n;
+  const std::string span = fmt::format("{:.0f} ms", durationSeconds(t_a, t_b) * 1e3);
+  if (n < config.init_min_features) {
+    r.failure = fmt::format("{}: {} features seen at both times (need {})", span, n, config.init_min_features);
+    return r;
+  }
+  if (c.median_px < config.init_min_parallax_px) {
+    r.failure = fmt::format("{}: median motion {:.1f} px (need {:.1f})", span, c.median_px, config.init_min_parallax_px);
+    return r;
+  }
+  cv::Mat ransac_mask;
+  // OpenCV's RANSAC draws from the calling thread's cv::theRNG(); seed it so that the same input always
+  // gives the same pose (offline determinism, DESIGN.md §4 Threads).
+  cv::theRNG().state = 0x5eed5eedULL + static_cast<uint64_t>(n);
+  const cv::Mat E = cv::findEssentialMat(c.a, c.b, 1.0, cv::Point2d(0, 0), cv::RANSAC, 0.999,
+                                         config.init_ransac_px / focal, ransac_mask);
+  if (E.rows != 3 || E.cols != 3) {
+    r.failure = fmt::format("{}: no essential matrix from {} features", span, n);
+    return r;
+  }
+  // Depth signs are trusted from twice the RANSAC threshold of parallax on.
+  const PoseFromE pose = poseFromEssential(E, c, ransac_mask, 2.0 * config.init_ransac_px / focal);
+  if (pose.count < config.init_min_inliers) {
+    r.failure = fmt::format("{}: {} inliers not behind a camera (need {})", span, pose.count, config.init_min_inliers);
+    return r;
+  }
+  // Only translation makes parallax: a mostly rotating camera moves the image a lot but leaves the
+  // baseline direction undetermined. Measure the motion that is left once the rotation is undone.
+  const double parallax = medianParallaxPx(c, pose.R_b_a, pose.inliers, focal);
+  if (parallax < config.init_min_parallax_px) {
+    r.failure = fmt::format("{}: median parallax {:.1f} px once the rotation ({:.1f} deg) is removed (need {:.1f})",
+                            span, parallax, lie::so3::log(pose.R_b_a).norm() * 180.0 / M_PI,
+                            config.init_min_parallax_px);
+    return r;
+  }
+  // OpenCV: x_b = R x_a + t (points from camera a to camera b), i.e. T_b_a = [R | t].
+  r.ok = true;
+  r.T_a_b = lie::SE3(pose.R_b_a, pose.t_b_a).inverse();
+  r.inliers = pose.count;
+  r.parallax_px = parallax;
+  return r;
+}
 
 TwoViewResult initializeTwoView(const TrackMap& tracks, int64_t earliest_ns, int64_t t_b_ns, double focal,
                                 const BackendConfig& config) {
-  TwoViewResult result;
-  result.t_b_ns = t_b_ns;
   const int64_t window_ns = std::llround(config.init_window_ms * 1e6);
+  TwoViewResult best;
+  best.t_b_ns = t_b_ns;
   std::string failures;
-  for (int part = 3; part >= 1; --part) {
-    const int64_t t_a = std::max(earliest_ns, t_b_ns - window_ns * part / 3);
-    if (t_b_ns - t_a < window_ns / 6) break;
-    const Correspondences c = correspondences(tracks, t_a, t_b_ns, focal);
-    const int n = static_cast<int>(c.a.size());
-    const std::string span = fmt::format("{:.0f} ms", durationSeconds(t_a, t_b_ns) * 1e3);
-    if (n < config.init_min_features) {
-      failures += fmt::format("{}: {} features seen at both times (need {}); ", span, n, config.init_min_features);
-      continue;
+  int64_t previous_t_a = t_b_ns;
+  for (int part = kInitSpans; part >= 1; --part) {
+    const int64_t t_a = std::max(earliest_ns, t_b_ns - window_ns * part / kInitSpans);
+    if (t_b_ns - t_a < window_ns / kInitSpans || t_a == previous_t_a) continue;
+    previous_t_a = t_a;
+    TwoViewResult r = initializeTwoViewSpan(tracks, t_a, t_b_ns, focal, config);
+    if (!r.ok) {
+      failures += r.failure + "; ";
+    } else if (!best.ok || score(r) > score(best)) {
+      best = std::move(r);
     }
-    if (c.median_px < config.init_min_parallax_px) {
-      failures += fmt::format("{}: median motion {:.1f} px (need {:.1f}); ", span, c.median_px,
-                              config.init_min_parallax_px);
-      continue;
-    }
-    cv::Mat inlier_mask;
-    // OpenCV's RANSAC draws from the calling thread's cv::theRNG(); seed it so that the same input always
-    // gives the same pose (offline determinism, DESIGN.md §4 Threads).
-    cv::theRNG().state = 0x5eed5eedULL + static_cast<uint64_t>(n);
-    const cv::Mat E = cv::findEssentialMat(c.a, c.b, 1.0, cv::Point2d(0, 0), cv::RANSAC, 0.999,
-                                           config.init_ransac_px / focal, inlier_mask);
-    if (E.rows != 3 || E.cols != 3) {
-      failures += fmt::format("{}: no essential matrix from {} features; ", span, n);
-      continue;
-    }
-    cv::Mat R, t;
-    const int inliers = cv::recoverPose(E, c.a, c.b, R, t, 1.0, cv::Point2d(0, 0), inlier_mask);
-    if (inliers < config.init_min_inliers) {
-      failures += fmt::format("{}: {} inliers in front of both cameras (need {}); ", span, inliers,
-                              config.init_min_inliers);
-      continue;
-    }
-    // OpenCV: x_b = R x_a + t (points from camera a to camera b), i.e. T_b_a = [R | t].
-    lie::Mat3 R_b_a;
-    lie::Vec3 t_b_a;
-    for (int i = 0; i < 3; ++i) {
-      t_b_a(i) = t.at<double>(i);
-      for (int j = 0; j < 3; ++j) R_b_a(i, j) = R.at<double>(i, j);
-    }
-    // Only translation makes parallax: a mostly rotating camera moves the image a lot but leaves the
-    // baseline direction undetermined. Measure the motion that is left once the rotation is undone.
-    const double parallax = medianParallaxPx(c, R_b_a, inlier_mask, focal);
-    if (parallax < config.init_min_parallax_px) {
-      failures += fmt::format("{}: median parallax {:.1f} px once the rotation ({:.1f} deg) is removed (need {:.1f}); ",
-                              span, parallax, lie::so3::log(R_b_a).norm() * 180.0 / M_PI,
-                              config.init_min_parallax_px);
-      continue;
-    }
-    result.ok = true;
-    result.t_a_ns = t_a;
-    result.T_a_b = lie::SE3(R_b_a, t_b_a.normalized()).inverse();
-    result.features = n;
-    result.inliers = inliers;
-    result.parallax_px = parallax;
-    return result;
   }
-  result.failure = failures.empty() ? "not enough feature time span yet" : failures;
-  return result;
+  if (!best.ok) best.failure = failures.empty() ? "not enough feature time span yet" : failures;
+  return best;
 }
 
 }  // namespace asynevo::backend

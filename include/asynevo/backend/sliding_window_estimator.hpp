@@ -50,6 +50,8 @@ class SlidingWindowEstimator : public Estimator {
 
   const Trajectory& trajectory() const { return trajectory_; }
   const TrackMap& tracks() const { return tracks_; }
+  /// Feature ids whose trajectories the RMS test rejected (track_outlier_rms_px).
+  const std::set<int64_t>& rejectedFeatures() const { return rejected_features_; }
 
  protected:
   /// The factors of the current window (WNOA, projections of triangulated tracks up to the newest knot,
