@@ -84,6 +84,15 @@ void SlidingWindowEstimator::advanceTo(int64_t t_ns) {
   }
 }
 
+BackendConfig SlidingWindowEstimator::initConfig(int64_t t_ns) const {
+  BackendConfig config = options_.config;
+  if (durationSeconds(first_measurement_ns_, t_ns) * 1e3 >= config.init_relax_after_ms) {
+    config.init_min_features = static_cast<int>(std::ceil(config.init_min_features * config.init_relaxed_fraction));
+    config.init_min_inliers = static_cast<int>(std::ceil(config.init_min_inliers * config.init_relaxed_fraction));
+  }
+  return config;
+}
+
 void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   last_init_attempt_ns_ = t_ns;
   ++stats_.init_attempts;
@@ -97,8 +106,9 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   }
   // The second view lags event time by one knot interval: the newest measurements of most features are
   // a little older than the newest event (tracker windows, min_dt), and both views need every feature.
+  const BackendConfig config = initConfig(t_ns);
   const TwoViewResult two_view = initializeTwoView(tracks_, std::max(first_measurement_ns_, horizon),
-                                                   t_ns - knot_dt_ns_, options_.focal_px, options_.config);
+                                                   t_ns - knot_dt_ns_, options_.focal_px, config);
   if (!two_view.ok) {
     stats_.init_last_failure = two_view.failure;
     return;
@@ -143,7 +153,7 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   triangulateTracks();
   int landmarks = 0;
   for (const auto& [id, track] : tracks_) landmarks += track.triangulated;
-  if (landmarks < options_.config.init_min_inliers / 2) {
+  if (landmarks < config.init_min_inliers / 2) {
     stats_.init_last_failure = fmt::format("two-view pose found ({} inliers) but only {} landmarks triangulated",
                                            two_view.inliers, landmarks);
     trajectory_ = Trajectory();

@@ -73,6 +73,9 @@ class SlidingWindowEstimator : public Estimator {
 
  private:
   void tryInitialize(int64_t t_ns);
+  /// The configuration of an initialization attempt at t_ns: the counts relaxed once attempts have
+  /// failed for init_relax_after_ms.
+  BackendConfig initConfig(int64_t t_ns) const;
   void triangulateTracks();
   void marginalizeDynamic();
   void renewScaleAnchor();

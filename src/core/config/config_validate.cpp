@@ -89,6 +89,8 @@ void BackendConfig::validate() const {
   requireRange("backend.init_min_inliers", init_min_inliers, 8, 100000);
   requireRange("backend.init_ransac_px", init_ransac_px, 1e-3, 100.0);
   requireRange("backend.init_window_ms", init_window_ms, 10.0, 1e5);
+  requireRange("backend.init_relax_after_ms", init_relax_after_ms, 0.0, 1e9);
+  requireRange("backend.init_relaxed_fraction", init_relaxed_fraction, 0.1, 1.0);
 }
 
 void Config::validate() const {

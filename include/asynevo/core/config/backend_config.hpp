@@ -12,7 +12,7 @@ struct BackendConfig {
   double knot_dt_ms = 50.0;  ///< knot spacing in event time
   /// Power-spectral density of the WNOA prior, diagonal [tx ty tz rx ry rz]: (m/s²)²·s for
   /// translation, (rad/s²)²·s for rotation. Monocular: translation units follow the map scale.
-  std::vector<double> q_c = {1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+  std::vector<double> q_c = {10.0, 10.0, 10.0, 1.0, 1.0, 1.0};
 
   // --- measurements ---
   double pixel_sigma = 1.0;     ///< measurement standard deviation in pixels
@@ -53,6 +53,11 @@ struct BackendConfig {
   int init_min_inliers = 25;           ///< five-point RANSAC inliers
   double init_ransac_px = 1.0;         ///< RANSAC threshold in pixels
   double init_window_ms = 300.0;       ///< span of the initialization window
+  /// After this much event time of failed attempts (from the first measurement), the feature and
+  /// inlier counts are multiplied by init_relaxed_fraction: a scene whose features live too briefly
+  /// for 30 at both ends still starts, and one that has them keeps the stricter start.
+  double init_relax_after_ms = 1000.0;
+  double init_relaxed_fraction = 0.8;
 
   template <class V>
   void visit(V& v) {
@@ -83,6 +88,10 @@ struct BackendConfig {
     v("init_min_inliers", init_min_inliers, "initialization: five-point RANSAC inliers");
     v("init_ransac_px", init_ransac_px, "initialization: RANSAC threshold [px]");
     v("init_window_ms", init_window_ms, "initialization: longest span searched for parallax [ms]");
+    v("init_relax_after_ms", init_relax_after_ms,
+      "initialization: event time of failed attempts after which the feature and inlier counts are relaxed [ms]");
+    v("init_relaxed_fraction", init_relaxed_fraction,
+      "initialization: factor on init_min_features and init_min_inliers once relaxed (1 = never relax)");
   }
   void validate() const;
 };

@@ -48,7 +48,7 @@ struct FrontendConfig {
   double max_time_reversal_us = 0.0;  ///< events earlier than their predecessor by more are dropped
   /// Measurements at the vertex of a parabola through the scores of the ±1 px hypotheses (x and y
   /// apart) instead of the 1-px state grid.
-  bool subpixel_measurements = false;
+  bool subpixel_measurements = true;
 
   template <class V>
   void visit(V& v) {
