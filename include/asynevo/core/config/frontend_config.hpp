@@ -40,7 +40,7 @@ struct FrontendConfig {
   double max_rotation_deg = 20.0;  ///< rotation test: max departure from the features' common roll (0 = off)
   /// Neighbour-motion test: a feature whose displacement over the last neighbour_window_ms differs by more
   /// than this from the median displacement of its neighbour_count nearest features is dropped (0 = off).
-  double max_neighbour_disagreement_px = 0.0;
+  double max_neighbour_disagreement_px = 4.0;
   double neighbour_check_ms = 5.0;  ///< event-time period of the neighbour-motion test (all features at once)
   double neighbour_window_ms = 60.0;  ///< time span of the compared displacements (<= 100)
   int neighbour_count = 6;            ///< nearest features whose median displacement is the reference
