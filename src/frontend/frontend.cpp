@@ -315,6 +315,7 @@ void Frontend::onStateChange(int slot, int64_t t_ns, MeasurementSink& sink) {
         st.y <= float(height_ - 1) - border_margin_))
     return drop(slot, DropReason::kBorder, t_ns, sink);
   s.last_change_ns = t_ns;
+  s.scene_changes_at_last_change = stats_.state_changes;
   if (!s.history.empty()) {  // neighbour-motion test enabled: remember the state
     const int cap = static_cast<int>(s.history.size());
     int index;
@@ -409,6 +410,7 @@ void Frontend::trySeed(const Event& e) {
   s.id = next_id_++;
   s.created_ns = e.t_ns;
   s.last_change_ns = e.t_ns;
+  s.scene_changes_at_last_change = stats_.state_changes;
   s.recorded = false;
   s.measurements = 0;
   s.history_head = 0;
@@ -468,7 +470,11 @@ void Frontend::housekeeping(int64_t t_ns, MeasurementSink& sink) {
     HasteTracker& tracker = *s.tracker;
     if (!tracker.initialized()) {
       if (t_ns - s.created_ns > init_timeout_ns_) drop(slot, DropReason::kInitTimeout, t_ns, sink);
-    } else if (t_ns - s.last_change_ns > max_idle_ns_) {
+    } else if (t_ns - s.last_change_ns > max_idle_ns_ &&
+               static_cast<double>(stats_.state_changes - s.scene_changes_at_last_change) >=
+                   config_.idle_min_scene_motion_px * stats_.active_features) {
+      // Idle while the scene moved on: its corner is gone. A camera at rest (or reversing) moves no
+      // tracker, and its features are kept.
       drop(slot, DropReason::kIdle, t_ns, sink);
     } else if (tracker.windowAnisotropy() < config_.min_anisotropy) {
       drop(slot, DropReason::kQuality, t_ns, sink);

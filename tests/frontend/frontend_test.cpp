@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <set>
 
 #include "asynevo/core/error.hpp"
 #include "synthetic_events.hpp"
@@ -85,24 +86,61 @@ TEST(Frontend, FeaturesLeavingTheImageAreDroppedAtTheBorder) {
   }
 }
 
-TEST(Frontend, IdleAndNeverInitializedFeaturesTimeOut) {
-  const int w = 120, h = 90;
-  // The square moves for 0.1 s, then disappears: its features become idle.
-  std::vector<MovingSquare> squares = {{40, 30, 30, 100, 60}};
+TEST(Frontend, IdleFeaturesTimeOutWhileTheSceneMovesOn) {
+  const int w = 160, h = 120;
+  // The first square moves for 0.1 s and then stands still (the same square, static from 0.1 s on: no
+  // events where it is), while the second keeps moving: the first square's features stop changing state
+  // while the scene moves on, so they end as idle.
+  std::vector<MovingSquare> squares = {{30, 30, 30, 100, 60}, {40, 36, 30, 0, 0}, {110, 20, 26, 0, 80}};
   squares[0].t_end = 0.1;
-  auto events = simulateSquares(squares, w, h, 0.1);
-  // Later, far away background events keep event time running.
-  for (int i = 0; i < 3000; ++i) events.push_back(ev(100'000'000 + i * 100'000, 5 + i % 3, 80, 1));
+  squares[1].t_start = 0.1;
+  const auto events = simulateSquares(squares, w, h, 0.3);
   FrontendConfig config;
   Frontend fe(config, w, h);
   MeasurementCollector out;
   for (const Event& e : events) fe.process(e, out);
-  const auto& dropped = fe.stats().features_dropped;
-  EXPECT_GT(dropped[static_cast<int>(DropReason::kIdle)] +
-                dropped[static_cast<int>(DropReason::kInitTimeout)] +
-                dropped[static_cast<int>(DropReason::kQuality)],
-            0u);
-  EXPECT_EQ(fe.activeFeatures(), 0);
+  EXPECT_GT(fe.stats().features_dropped[static_cast<int>(DropReason::kIdle)], 0u);
+  // Nothing measured on the standing square once it stood still.
+  for (const auto& m : out.measurements) {
+    if (m.t_ns > 100'000'000 + static_cast<int64_t>(config.min_dt_ms * 1e6)) {
+      EXPECT_GT(m.x, 90.f) << m.t_ns;
+    }
+  }
+}
+
+TEST(Frontend, ACameraAtRestKeepsItsFeatures) {
+  // Two squares move for 0.15 s, everything stands still for 0.3 s (no events at all: no state changes
+  // anywhere), then the motion goes on. The features are kept through the pause, and measured again
+  // after it under the same ids; with idle_min_scene_motion_px 0 (time alone) they end as idle.
+  const int w = 160, h = 120;
+  const std::vector<MovingSquare> squares = {{30, 30, 30, 120, 40}, {100, 60, 28, -60, 50}};
+  std::vector<Event> events = simulateSquares(squares, w, h, 0.3);
+  const int64_t pause_at = 150'000'000, pause = 300'000'000;
+  for (Event& e : events) {
+    if (e.t_ns >= pause_at) e.t_ns += pause;
+  }
+  auto run = [&](double idle_min_scene_motion_px, uint64_t& idle_drops) {
+    FrontendConfig config;
+    config.idle_min_scene_motion_px = idle_min_scene_motion_px;
+    Frontend fe(config, w, h);
+    MeasurementCollector out;
+    for (const Event& e : events) fe.process(e, out);
+    idle_drops = fe.stats().features_dropped[static_cast<int>(DropReason::kIdle)];
+    std::set<int64_t> before, after;
+    for (const auto& m : out.measurements) {
+      if (m.t_ns < pause_at) before.insert(m.feature_id);
+      if (m.t_ns > pause_at + pause) after.insert(m.feature_id);
+    }
+    int kept = 0;
+    for (const int64_t id : after) kept += before.count(id) > 0;
+    return kept;
+  };
+  uint64_t idle_default = 0, idle_time_alone = 0;
+  const int kept_default = run(FrontendConfig{}.idle_min_scene_motion_px, idle_default);
+  const int kept_time_alone = run(0, idle_time_alone);
+  EXPECT_GE(kept_default, 2) << "features measured before and after the pause";
+  EXPECT_EQ(kept_time_alone, 0);
+  EXPECT_GT(idle_time_alone, idle_default);
 }
 
 TEST(Frontend, BadEventsAreCountedNotProcessed) {

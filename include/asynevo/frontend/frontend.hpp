@@ -165,6 +165,7 @@ class Frontend {
     int64_t id = -1;  ///< -1: free
     int64_t created_ns = 0;
     int64_t last_change_ns = 0;
+    uint64_t scene_changes_at_last_change = 0;  ///< stats_.state_changes at its last state change
     int64_t last_recorded_ns = 0;
     bool recorded = false;
     int reg_index = -1;  ///< registration-table index it occupies, or -1

@@ -47,6 +47,7 @@ void FrontendConfig::validate() const {
   requireRange("frontend.collision_radius_px", collision_radius_px, 0.0, 8.0);
   requireRange("frontend.min_dt_ms", min_dt_ms, 0.0, 1e6);
   requireRange("frontend.max_idle_ms", max_idle_ms, 0.001, 1e9);
+  requireRange("frontend.idle_min_scene_motion_px", idle_min_scene_motion_px, 0.0, 1e6);
   requireRange("frontend.init_timeout_ms", init_timeout_ms, 0.001, 1e9);
   requireRange("frontend.housekeeping_ms", housekeeping_ms, 0.001, 1e6);
   requireRange("frontend.min_anisotropy", min_anisotropy, 0.0, 1.0);

@@ -31,7 +31,10 @@ struct FrontendConfig {
   double border_margin_px = 16.0;    ///< features are removed (and never seeded) this close to the border
   double collision_radius_px = 1.5;  ///< two features closer than this: the younger one is dropped
   double min_dt_ms = 5.0;            ///< minimum event time between two recorded measurements of a feature
-  double max_idle_ms = 100.0;        ///< a feature without state change for this long is dropped
+  double max_idle_ms = 100.0;        ///< a feature without state change for this long is dropped...
+  /// ...if meanwhile the features moved this many pixels on average (state changes per active feature;
+  /// 0: time alone decides). A camera at rest, or reversing, moves no tracker: its features stay.
+  double idle_min_scene_motion_px = 1.0;
   double init_timeout_ms = 100.0;    ///< a tracker not initialized after this long is dropped
   double housekeeping_ms = 1.0;      ///< period (event time) of the idle/time-out/quality checks
   double min_anisotropy = 0.06;      ///< quality: min eigenvalue ratio of the window events' spread
@@ -76,7 +79,9 @@ struct FrontendConfig {
     v("collision_radius_px", collision_radius_px,
       "two features closer than this are duplicates: the younger one is dropped");
     v("min_dt_ms", min_dt_ms, "minimum event time between two recorded measurements of one feature");
-    v("max_idle_ms", max_idle_ms, "a feature whose state has not changed for this long is dropped");
+    v("max_idle_ms", max_idle_ms, "a feature whose state has not changed for this long is dropped...");
+    v("idle_min_scene_motion_px", idle_min_scene_motion_px,
+      "...if meanwhile the features moved this far on average [px] (0 = time alone; a camera at rest keeps its features)");
     v("init_timeout_ms", init_timeout_ms,
       "a tracker that has not gathered its first event window after this long is dropped");
     v("housekeeping_ms", housekeeping_ms, "event-time period of the idle, time-out and quality checks");
