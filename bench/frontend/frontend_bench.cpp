@@ -145,13 +145,13 @@ void frontendBench(benchmark::State& state, const std::string& tracker) {
   FrontendConfig config;
   config.tracker = tracker;
   if (state.range(1) > 0) config.max_features = static_cast<int>(state.range(1));
-  if (state.range(2) == 0) {  // without the drift and rotation tests (for their cost)
+  if (state.range(2) == 0) {  // without the drift, rotation and neighbour-motion tests (for their cost)
     config.max_drift_px = 0;
     config.max_rotation_deg = 0;
+    config.max_neighbour_disagreement_px = 0;
   }
-  if (state.range(2) == 2) {  // with the neighbour-motion test (off by default), at the tested setting
-    config.max_neighbour_disagreement_px = 4;
-    config.neighbour_window_ms = 60;
+  if (state.range(2) == 2) {  // the defaults without the neighbour-motion test (for its cost)
+    config.max_neighbour_disagreement_px = 0;
   }
   const CameraModel camera =
       readEcdCalibration(std::string(ASYNEVO_SOURCE_DIR) + "/tests/data/ecd/shapes_rotation/calib.txt");
