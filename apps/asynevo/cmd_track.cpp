@@ -66,7 +66,7 @@ class TrackFileSink final : public frontend::MeasurementSink {
       char t[32];
       for (const TrackMeasurement& m : it->second.measurements) {
         formatNsAsSeconds(m.t_ns, t);
-        fmt::print(file_, "{} {} {:.3f} {:.3f}\n", m.feature_id, t, m.x, m.y);
+        fmt::print(file_, "{} {} {} {}\n", m.feature_id, t, m.x, m.y);  // shortest exact float text
         ++lines_;
       }
       ++tracks_;

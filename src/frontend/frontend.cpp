@@ -209,18 +209,7 @@ bool Frontend::normalize(float x, float y, float& xn, float& yn) const {
     yn = y;
     return true;
   }
-  if (!(x >= 0.f && y >= 0.f && x <= float(width_ - 1) && y <= float(height_ - 1))) return false;
-  const int x0 = std::min(static_cast<int>(x), width_ - 2), y0 = std::min(static_cast<int>(y), height_ - 2);
-  const float fx = x - float(x0), fy = y - float(y0);
-  if (!undistortion_.valid(x0, y0) || !undistortion_.valid(x0 + 1, y0) || !undistortion_.valid(x0, y0 + 1) ||
-      !undistortion_.valid(x0 + 1, y0 + 1))
-    return false;
-  const float w00 = (1 - fx) * (1 - fy), w10 = fx * (1 - fy), w01 = (1 - fx) * fy, w11 = fx * fy;
-  xn = w00 * undistortion_.xn(x0, y0) + w10 * undistortion_.xn(x0 + 1, y0) +
-       w01 * undistortion_.xn(x0, y0 + 1) + w11 * undistortion_.xn(x0 + 1, y0 + 1);
-  yn = w00 * undistortion_.yn(x0, y0) + w10 * undistortion_.yn(x0 + 1, y0) +
-       w01 * undistortion_.yn(x0, y0 + 1) + w11 * undistortion_.yn(x0 + 1, y0 + 1);
-  return true;
+  return undistortion_.interpolate(x, y, xn, yn);
 }
 
 void Frontend::cellInsert(int slot, int cell) {

@@ -74,7 +74,8 @@ std::FILE* RunFolderWriter::open(const std::string& name) {
 void RunFolderWriter::onMeasurement(const TrackMeasurement& m) {
   char t[32];
   formatNsAsSeconds(m.t_ns, t);
-  fmt::print(tracks_, "{} {} {:.3f} {:.3f}\n", m.feature_id, t, m.x, m.y);
+  // Shortest text that reads back as the same float: a replay sees exactly what the backend saw.
+  fmt::print(tracks_, "{} {} {} {}\n", m.feature_id, t, m.x, m.y);
   ++measurements_;
 }
 

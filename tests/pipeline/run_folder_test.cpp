@@ -35,6 +35,7 @@ TEST(RunFolderWriter, WritesTrajectoryVelocitiesTracksTimingAndLandmarksThatRead
     RunFolderWriter writer(out);
     writer.onMeasurement({7, 1'500'000'000, 10.25f, 20.5f, 0.1f, 0.2f});
     writer.onMeasurement({8, 1'500'100'000, 11.0f, 21.0f, 0.1f, 0.2f});
+    writer.onMeasurement({9, 1'500'200'000, 123.456789f, 0.1f, 0.1f, 0.2f});  // a sub-pixel float
     writer.onFinalKnots({knot(1'000'000'000, 1.0), knot(1'050'000'000, 1.25)});
     // Written knots are on disk before close() (a crash leaves a partial but valid file).
     EXPECT_EQ(readTumTrajectory(writer.path("stamped_traj_estimate.txt")).size(), 2u);
@@ -50,7 +51,7 @@ TEST(RunFolderWriter, WritesTrajectoryVelocitiesTracksTimingAndLandmarksThatRead
     writer.onLandmarks({{1, Eigen::Vector3d(1, 2, 3), 9}, {2, Eigen::Vector3d(-1, 0.5, 4), 5}});
     writer.close();
     EXPECT_EQ(writer.knotsWritten(), 3u);
-    EXPECT_EQ(writer.measurementsWritten(), 2u);
+    EXPECT_EQ(writer.measurementsWritten(), 3u);
     const UpdateTimeStats s = writer.updateTimeStats();
     EXPECT_EQ(s.updates, 2u);
     EXPECT_DOUBLE_EQ(s.median_ms, 3.5);
@@ -65,9 +66,17 @@ TEST(RunFolderWriter, WritesTrajectoryVelocitiesTracksTimingAndLandmarksThatRead
   const auto twists = readVelocities(out + "/velocities.txt");
   ASSERT_EQ(twists.size(), 3u);
   EXPECT_DOUBLE_EQ(twists[1].w_c.z(), 0.03);
-  EXPECT_NE(
-      readFile(out + "/tracks.txt").find("\n7 1.500000000 10.250 20.500\n8 1.500100000 11.000 21.000\n"),
-      std::string::npos);
+  // Pixels as the shortest text that reads back as the same float (a replay sees what the backend saw).
+  const std::string tracks = readFile(out + "/tracks.txt");
+  EXPECT_NE(tracks.find("\n7 1.500000000 10.25 20.5\n8 1.500100000 11 21\n9 1.500200000 "), std::string::npos)
+      << tracks;
+  std::istringstream last(tracks.substr(tracks.rfind("\n9 ") + 1));
+  int64_t id = 0;
+  std::string t;
+  float x = 0, y = 0;
+  last >> id >> t >> x >> y;
+  EXPECT_EQ(x, 123.456789f);
+  EXPECT_EQ(y, 0.1f);
   const eval::TimingStats timing = eval::readTimingStats(out + "/timing.csv");
   EXPECT_EQ(timing.updates, 2u);
   EXPECT_TRUE(timing.has_total);

@@ -4,6 +4,7 @@
 // Built by CameraModel::undistortionTable<Scalar>().
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -46,6 +47,19 @@ class UndistortionTable {
     xy_[2 * i] = xn_value;
     xy_[2 * i + 1] = yn_value;
     valid_[i] = is_valid ? 1 : 0;
+  }
+
+  /// Bilinear interpolation at a sub-pixel position (x, y) inside the sensor; false outside it or when
+  /// one of the four surrounding entries is invalid.
+  bool interpolate(Scalar x, Scalar y, Scalar& xn_out, Scalar& yn_out) const {
+    if (!(x >= Scalar(0) && y >= Scalar(0) && x <= Scalar(width_ - 1) && y <= Scalar(height_ - 1))) return false;
+    const int x0 = std::min(static_cast<int>(x), width_ - 2), y0 = std::min(static_cast<int>(y), height_ - 2);
+    const Scalar fx = x - Scalar(x0), fy = y - Scalar(y0);
+    if (!valid(x0, y0) || !valid(x0 + 1, y0) || !valid(x0, y0 + 1) || !valid(x0 + 1, y0 + 1)) return false;
+    const Scalar w00 = (1 - fx) * (1 - fy), w10 = fx * (1 - fy), w01 = (1 - fx) * fy, w11 = fx * fy;
+    xn_out = w00 * xn(x0, y0) + w10 * xn(x0 + 1, y0) + w01 * xn(x0, y0 + 1) + w11 * xn(x0 + 1, y0 + 1);
+    yn_out = w00 * yn(x0, y0) + w10 * yn(x0 + 1, y0) + w01 * yn(x0, y0 + 1) + w11 * yn(x0 + 1, y0 + 1);
+    return true;
   }
 
   /// Interleaved (xn, yn) storage, row-major, 2*W*H values.
