@@ -80,6 +80,26 @@ TEST(SlidingWindowEstimator, WithoutParallaxItReportsWhyInitializationFails) {
   EXPECT_TRUE(run.knots.empty());
 }
 
+TEST(SlidingWindowEstimator, RelaxesTheInitializationCountsAfterAWait) {
+  // More features at both times than the scene ever has: the strict counts never pass; relaxed after
+  // 0.5 s of failed attempts to an eighth, they do, and not before the wait.
+  const SyntheticScene scene(150);
+  const double duration = 1.5;
+  const auto measurements = scene.measurements(duration, 0.01, 0.4, 0.3);
+  EstimatorOptions options = defaultOptions();
+  options.config.init_min_features = 240;
+  options.config.init_min_inliers = 200;
+  options.config.init_relax_after_ms = 500;
+  options.config.init_relaxed_fraction = 1.0;  // never relax
+  const RunResult strict = runEstimator(measurements, duration, options);
+  EXPECT_FALSE(strict.stats.initialized);
+  EXPECT_NE(strict.stats.init_last_failure.find("(need 240)"), std::string::npos) << strict.stats.init_last_failure;
+  options.config.init_relaxed_fraction = 0.125;  // 30 features, 25 inliers
+  const RunResult relaxed = runEstimator(measurements, duration, options);
+  ASSERT_TRUE(relaxed.stats.initialized) << relaxed.stats.init_last_failure;
+  EXPECT_GE(relaxed.stats.initialized_at_ns, measurements.front().t_ns + 500'000'000);
+}
+
 TEST(SlidingWindowEstimator, RejectsWholeTrajectoriesThatAreNoFixedScenePoint) {
   const testing::SyntheticScene scene(150);
   const double duration = 2.5;
