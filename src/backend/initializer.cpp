@@ -7,6 +7,7 @@
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
+#include <opencv2/core/eigen.hpp>  // after Eigen (lie/se3.hpp, via initializer.hpp)
 #include <vector>
 
 #include "asynevo/core/time.hpp"
@@ -40,12 +41,12 @@ Correspondences correspondences(const TrackMap& tracks, int64_t t_a, int64_t t_b
 
 lie::Vec3 ray(const cv::Point2d& p) { return lie::Vec3(p.x, p.y, 1.0).normalized(); }
 
+double angleBetween(const lie::Vec3& u, const lie::Vec3& v) { return std::atan2(u.cross(v).norm(), u.dot(v)); }
+
 /// Angle between the ray at t_b and the ray at t_a rotated into camera b: the parallax that the
 /// translation alone causes (zero for a point at infinity).
 double parallaxAngle(const lie::Mat3& R_b_a, const cv::Point2d& a, const cv::Point2d& b) {
-  const lie::Vec3 u = R_b_a * ray(a);
-  const lie::Vec3 v = ray(b);
-  return std::atan2(u.cross(v).norm(), u.dot(v));
+  return angleBetween(R_b_a * ray(a), ray(b));
 }
 
 enum class Chirality { Front, Behind, Undetermined };
@@ -60,7 +61,7 @@ Chirality chirality(const lie::Mat3& R, const lie::Vec3& t, const cv::Point2d& a
   const lie::Vec3 v = ray(b);
   const double uv = u.dot(v);
   if (uv <= 0) return Chirality::Behind;
-  if (std::atan2(u.cross(v).norm(), uv) < min_angle) return Chirality::Undetermined;
+  if (angleBetween(u, v) < min_angle) return Chirality::Undetermined;
   // Minimize |lambda_a u + t - lambda_b v|^2 over the two depths (normal equations, |u| = |v| = 1).
   const double det = 1.0 - uv * uv;
   const double ut = u.dot(t), vt = v.dot(t);
@@ -76,13 +77,6 @@ struct PoseFromE {
   int count = 0;
 };
 
-lie::Mat3 toEigen3(const cv::Mat& m) {
-  lie::Mat3 out;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) out(i, j) = m.at<double>(i, j);
-  return out;
-}
-
 /// The one of the four decompositions of E (Hartley & Zisserman, Multiple View Geometry, 2nd ed., §9.6.2)
 /// that puts the most RANSAC inliers in front of both cameras. Unlike cv::recoverPose, a point far away
 /// (parallax below `min_angle`) neither votes nor is discarded: with a short baseline most of a scene
@@ -91,8 +85,11 @@ PoseFromE poseFromEssential(const cv::Mat& E, const Correspondences& c, const cv
                             double min_angle) {
   cv::Mat R1, R2, t;
   cv::decomposeEssentialMat(E, R1, R2, t);
-  const lie::Vec3 t_unit(t.at<double>(0), t.at<double>(1), t.at<double>(2));
-  const std::array<lie::Mat3, 2> rotations{toEigen3(R1), toEigen3(R2)};
+  lie::Vec3 t_unit;
+  std::array<lie::Mat3, 2> rotations;
+  cv::cv2eigen(t, t_unit);
+  cv::cv2eigen(R1, rotations[0]);
+  cv::cv2eigen(R2, rotations[1]);
   PoseFromE best;
   int best_front = -1;
   for (const lie::Mat3& R : rotations) {
