@@ -1,26 +1,28 @@
-// Backend replay (writes OUT_TRAJ and OUT_TRAJ.updates.csv): runs an estimator on the feature tracks a run recorded (its tracks.txt), without the
-// frontend, optionally with the measured positions replaced by their exact ground truth on a simulated
-// sequence ("oracle" tracks: same features, same lifetimes, same times, positions from the scene).
-// A diagnostic for docs/backend.md: it separates the error the frontend's tracks bring from the error
-// of the backend itself.
+// Backend replay: runs an estimator on the feature tracks a run recorded, without the frontend,
+// optionally with the measured positions replaced by their exact ground truth on a simulated sequence
+// ("oracle" tracks: same features, same lifetimes, same times, positions from the scene). A diagnostic
+// for docs/backend.md: it separates the error the frontend's tracks bring from the error of the backend.
 //
 //   bench_replay_tracks RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental]
 //                       [--seed N] [--dump-errors FILE]
+//
+// Writes OUT_TRAJ (TUM, as the run's stamped_traj_estimate.txt), OUT_TRAJ.velocities.txt (as its
+// velocities.txt) and OUT_TRAJ.updates.csv (the update records).
 //
 // --oracle: positions of features on a fixed scene point replaced by their projection plus Gaussian
 // noise; features born on a depth discontinuity (no fixed 3D point) keep their measured positions.
 // --drop-edges: features born on a depth discontinuity, or whose point leaves the view, are skipped.
 //
-// RUN_DIR holds tracks.txt and config.yaml (from 'asynevo run'), DATASET_DIR the sequence (calib.txt;
-// for --oracle a folder written by 'asynevo simulate'). Measurements are fed in file order (the order
-// the backend took them); event time advances through every 1 ms marker up to the newest measurement
-// time, as the pipeline's marker clock does (pipeline.hpp: a marker at each multiple of 1 ms before the
-// first event at or after it), and normalized coordinates come from the frontend's undistortion table.
-// Still not the pipeline's exact call sequence: a measurement carries its state time but reaches the
-// backend when the frontend emits it, which can be a marker or more later (a tracker's first state is
-// recorded once its window has filled); on the demo the first initialization attempt comes 1 ms
-// earlier than in the pipeline, and the knife-edge initialization then starts at 0.61 s instead of
-// 1.16 s. The feature ends, which the estimator does not use, are not replayed.
+// RUN_DIR holds tracks.txt, backend_feed.txt and config.yaml (from 'asynevo run'), DATASET_DIR the
+// sequence (calib.txt; for --oracle a folder written by 'asynevo simulate'). Measurements are fed in
+// file order (the order the backend took them), each time marker of backend_feed.txt after as many
+// tracks.txt lines as the backend had taken before it, and normalized coordinates come from the
+// frontend's undistortion table: without --oracle or --drop-edges the replay reproduces the run's
+// trajectory byte for byte (tests/bench/replay_reproduces_run.sh). The feature ends are not replayed:
+// the window estimator does not use them. A run folder without backend_feed.txt (older runs) gets a
+// marker at every 1 ms up to each measurement's time, which misses the frontend's emission lag (a
+// tracker's first state is recorded once its window has filled): on the demo its initialization then
+// starts at 0.61 s instead of 1.16 s.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -82,6 +84,32 @@ Args parse(int argc, char** argv) {
   return a;
 }
 
+struct FeedMarker {
+  int64_t t_ns = 0;
+  uint64_t measurements = 0;  ///< tracks.txt lines taken before the estimator advanced to t_ns
+};
+
+/// The run's backend_feed.txt ("t n" per time marker); empty when the run has none (older runs).
+std::vector<FeedMarker> readFeed(const std::string& path) {
+  std::vector<FeedMarker> feed;
+  std::ifstream in(path);
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    std::string t_text;
+    FeedMarker marker;
+    fields >> t_text >> marker.measurements;
+    const auto t_ns = parseSecondsToNs(t_text);
+    if (!fields || !t_ns) throw std::runtime_error(fmt::format("{}:{}: bad line '{}'", path, line_number, line));
+    marker.t_ns = *t_ns;
+    feed.push_back(marker);
+  }
+  return feed;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) try {
@@ -113,12 +141,26 @@ int main(int argc, char** argv) try {
   std::mt19937 rng(args.seed);
   std::normal_distribution<double> noise(0.0, args.oracle_noise_px.value_or(0.0));
   std::map<int64_t, sim::FeatureGroundTruth::Anchor> anchors;
-  int64_t marker = 0;
   std::string last_failure;
-  uint64_t fed = 0, skipped = 0;
+  auto advance = [&](int64_t marker) {
+    estimator->advanceTo(marker);
+    const auto& st = estimator->stats();
+    if (!st.initialized && st.init_last_failure != last_failure) {
+      last_failure = st.init_last_failure;
+      fmt::print("{:.3f} s: {}\n", marker * 1e-9, last_failure);
+    }
+  };
+  const std::vector<FeedMarker> feed = readFeed(args.run + "/backend_feed.txt");
+  if (feed.empty()) fmt::print("no backend_feed.txt: markers approximated from the measurement times\n");
+  std::size_t next_feed = 0;
+  int64_t marker = 0;
+  uint64_t lines = 0, fed = 0, skipped = 0;
   std::string line;
   while (std::getline(in, line)) {
     if (line.empty() || line[0] == '#') continue;
+    // The markers the pipeline's backend reached before it took this line.
+    for (; next_feed < feed.size() && feed[next_feed].measurements <= lines; ++next_feed) advance(feed[next_feed].t_ns);
+    ++lines;
     std::istringstream fields(line);
     int64_t id = 0;
     std::string t_text;
@@ -152,28 +194,28 @@ int main(int argc, char** argv) try {
       ++skipped;
       continue;
     }
-    const int64_t ms = m.t_ns / 1'000'000 * 1'000'000;
-    if (marker == 0) marker = ms;  // the first marker comes one period after the first event
-    while (ms > marker) {
-      marker += 1'000'000;
-      estimator->advanceTo(marker);
-      const auto& st = estimator->stats();
-      if (!st.initialized && st.init_last_failure != last_failure) {
-        last_failure = st.init_last_failure;
-        fmt::print("{:.3f} s: {}\n", marker * 1e-9, last_failure);
-      }
+    if (feed.empty()) {
+      const int64_t ms = m.t_ns / 1'000'000 * 1'000'000;
+      if (marker == 0) marker = ms;  // the first marker comes one period after the first event
+      while (ms > marker) advance(marker += 1'000'000);
     }
     estimator->addMeasurement(m);
     ++fed;
   }
+  for (; next_feed < feed.size(); ++next_feed) advance(feed[next_feed].t_ns);
   estimator->finish();
   StampedTrajectory trajectory;
+  std::vector<StampedTwist> twists;
   for (const backend::Knot& k : estimator->takeFinalKnots()) {
-    const lie::SE3 T = k.T_w_c();
-    trajectory.push_back({k.t_ns, T.translation(), Eigen::Quaterniond(T.rotation())});
+    const auto& p = k.pose;  // [t_x t_y t_z q_x q_y q_z q_w], written as the run folder writes it
+    trajectory.push_back({k.t_ns, Eigen::Vector3d(p[0], p[1], p[2]), Eigen::Quaterniond(p[6], p[3], p[4], p[5])});
+    const auto& w = k.velocity;  // [v ω], body frame
+    twists.push_back({k.t_ns, Eigen::Vector3d(w[0], w[1], w[2]), Eigen::Vector3d(w[3], w[4], w[5])});
   }
   std::sort(trajectory.begin(), trajectory.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
+  std::sort(twists.begin(), twists.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
   writeTumTrajectory(args.out, trajectory);
+  writeVelocities(args.out + ".velocities.txt", twists);  // for 'asynevo eval --velocities'
   {
     // The update records next to the trajectory (OUT_TRAJ.updates.csv) for plots of the window.
     std::ofstream updates(args.out + ".updates.csv");

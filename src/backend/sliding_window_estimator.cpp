@@ -65,10 +65,9 @@ void SlidingWindowEstimator::addMeasurement(const TrackMeasurement& m) {
   if (first_measurement_ns_ < 0) first_measurement_ns_ = m.t_ns;
 }
 
-void SlidingWindowEstimator::endFeature(int64_t feature_id) {
-  auto it = tracks_.find(feature_id);
-  if (it != tracks_.end()) it->second.ended = true;
-}
+// Alg. 1's "ended before t_eps" is read from the last measurement time (marginalizeDynamic): a feature
+// that stays quiet is marked like an ended one, and a later measurement of it starts a new trajectory.
+void SlidingWindowEstimator::endFeature(int64_t /*feature_id*/) {}
 
 void SlidingWindowEstimator::advanceTo(int64_t t_ns) {
   last_event_ns_ = std::max(last_event_ns_, t_ns);

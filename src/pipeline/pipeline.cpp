@@ -149,6 +149,7 @@ PipelineStats Pipeline::run(const std::function<void(const PipelineProgress&)>& 
               estimator_.endFeature(item.measurement.feature_id);
               break;
             case QueueItem::Kind::kMarker: {
+              output_.onMarker(item.measurement.t_ns);
               estimator_.advanceTo(item.measurement.t_ns);
               drain();
               processed_marker.store(item.measurement.t_ns);

@@ -45,10 +45,12 @@ RunFolderWriter::RunFolderWriter(const std::string& dir) : dir_(dir) {
   traj_ = open("stamped_traj_estimate.txt");
   velocities_ = open("velocities.txt");
   tracks_ = open("tracks.txt");
+  feed_ = open("backend_feed.txt");
   timing_ = open("timing.csv");
   fmt::print(traj_, "# t tx ty tz qx qy qz qw  (T_w_c, camera-to-world; one line per final knot)\n");
   fmt::print(velocities_, "# t vx vy vz wx wy wz  (body-frame twist per knot)\n");
   fmt::print(tracks_, "# id t x y  (feature measurements, raw pixel coordinates)\n");
+  fmt::print(feed_, "# t n  (time marker; tracks.txt lines the backend had taken before advancing to it)\n");
   fmt::print(timing_, "{}\n", kTimingCsvHeader);
   std::fflush(traj_);
   std::fflush(velocities_);
@@ -56,7 +58,7 @@ RunFolderWriter::RunFolderWriter(const std::string& dir) : dir_(dir) {
 }
 
 RunFolderWriter::~RunFolderWriter() {
-  for (std::FILE* f : {traj_, velocities_, tracks_, timing_})
+  for (std::FILE* f : {traj_, velocities_, tracks_, feed_, timing_})
     if (f) std::fclose(f);
 }
 
@@ -77,6 +79,12 @@ void RunFolderWriter::onMeasurement(const TrackMeasurement& m) {
   // Shortest text that reads back as the same float: a replay sees exactly what the backend saw.
   fmt::print(tracks_, "{} {} {} {}\n", m.feature_id, t, m.x, m.y);
   ++measurements_;
+}
+
+void RunFolderWriter::onMarker(int64_t t_ns) {
+  char t[32];
+  formatNsAsSeconds(t_ns, t);
+  fmt::print(feed_, "{} {}\n", t, measurements_);
 }
 
 void RunFolderWriter::onFinalKnots(const std::vector<backend::Knot>& knots) {
@@ -118,6 +126,7 @@ void RunFolderWriter::close() {
   closeChecked(traj_, path("stamped_traj_estimate.txt"));
   closeChecked(velocities_, path("velocities.txt"));
   closeChecked(tracks_, path("tracks.txt"));
+  closeChecked(feed_, path("backend_feed.txt"));
   closeChecked(timing_, path("timing.csv"));
   std::string ply;
   ply += "ply\nformat ascii 1.0\n";

@@ -28,13 +28,15 @@ backend::Knot knot(int64_t t_ns, double x) {
   return k;
 }
 
-TEST(RunFolderWriter, WritesTrajectoryVelocitiesTracksTimingAndLandmarksThatReadBack) {
+TEST(RunFolderWriter, WritesTrajectoryVelocitiesTracksFeedTimingAndLandmarksThatReadBack) {
   const asynevo::testing::TempDir dir;
   const std::string out = dir.file("run");
   {
     RunFolderWriter writer(out);
+    writer.onMarker(1'499'000'000);
     writer.onMeasurement({7, 1'500'000'000, 10.25f, 20.5f, 0.1f, 0.2f});
     writer.onMeasurement({8, 1'500'100'000, 11.0f, 21.0f, 0.1f, 0.2f});
+    writer.onMarker(1'500'000'000);
     writer.onMeasurement({9, 1'500'200'000, 123.456789f, 0.1f, 0.1f, 0.2f});  // a sub-pixel float
     writer.onFinalKnots({knot(1'000'000'000, 1.0), knot(1'050'000'000, 1.25)});
     // Written knots are on disk before close() (a crash leaves a partial but valid file).
@@ -77,6 +79,9 @@ TEST(RunFolderWriter, WritesTrajectoryVelocitiesTracksTimingAndLandmarksThatRead
   last >> id >> t >> x >> y;
   EXPECT_EQ(x, 123.456789f);
   EXPECT_EQ(y, 0.1f);
+  // Each marker with the number of tracks.txt lines taken before it (the backend's call sequence).
+  const std::string feed = readFile(out + "/backend_feed.txt");
+  EXPECT_NE(feed.find("\n1.499000000 0\n1.500000000 2\n"), std::string::npos) << feed;
   const eval::TimingStats timing = eval::readTimingStats(out + "/timing.csv");
   EXPECT_EQ(timing.updates, 2u);
   EXPECT_TRUE(timing.has_total);

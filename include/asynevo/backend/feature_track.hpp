@@ -30,7 +30,6 @@ struct FeatureTrack {
   int64_t id = 0;
   std::vector<Observation> observations;  ///< time-ordered
   std::vector<FixedView> fixed_views;     ///< older measurements, from poses no longer in the window
-  bool ended = false;                     ///< the frontend closed it
   bool triangulated = false;
   std::array<double, 3> p_w{};            ///< landmark, valid when triangulated
   std::size_t observations_at_last_attempt = 0;

@@ -50,6 +50,8 @@ class PipelineOutput {
  public:
   virtual ~PipelineOutput() = default;
   virtual void onMeasurement(const TrackMeasurement& /*m*/) {}
+  /// A time marker, just before the estimator advances to it.
+  virtual void onMarker(int64_t /*t_ns*/) {}
   virtual void onFinalKnots(const std::vector<backend::Knot>& /*knots*/) {}
   virtual void onUpdateRecords(const std::vector<backend::UpdateRecord>& /*records*/) {}
   virtual void onLandmarks(const std::vector<backend::LandmarkPoint>& /*landmarks*/) {}

@@ -7,6 +7,9 @@
 //   stamped_traj_estimate.txt  TUM "t tx ty tz qx qy qz qw", one line per final knot (T_w_c)
 //   velocities.txt             "t vx vy vz wx wy wz", body-frame twist per final knot
 //   tracks.txt                 "id t x y", every frontend measurement, raw pixels, in production order
+//   backend_feed.txt           "t n", every time marker with the number of tracks.txt lines the backend
+//                              had taken before advancing to it (bench_replay_tracks replays the
+//                              backend's exact call sequence from the two files)
 //   timing.csv                 one row per backend update
 // and at the end: landmarks.ply, stats.json, config.yaml, stamped_groundtruth.txt (when known).
 
@@ -42,6 +45,7 @@ class RunFolderWriter final : public PipelineOutput {
   RunFolderWriter& operator=(const RunFolderWriter&) = delete;
 
   void onMeasurement(const TrackMeasurement& m) override;
+  void onMarker(int64_t t_ns) override;
   void onFinalKnots(const std::vector<backend::Knot>& knots) override;
   void onUpdateRecords(const std::vector<backend::UpdateRecord>& records) override;
   void onLandmarks(const std::vector<backend::LandmarkPoint>& landmarks) override;
@@ -66,6 +70,7 @@ class RunFolderWriter final : public PipelineOutput {
   std::FILE* traj_ = nullptr;
   std::FILE* velocities_ = nullptr;
   std::FILE* tracks_ = nullptr;
+  std::FILE* feed_ = nullptr;
   std::FILE* timing_ = nullptr;
   uint64_t knots_ = 0;
   uint64_t measurements_ = 0;

@@ -1,0 +1,28 @@
+#!/bin/sh
+# bench_replay_tracks on a run folder (tracks.txt + backend_feed.txt) must reproduce the run's backend
+# exactly: the same final knots and velocities, byte for byte (docs/backend.md, "Where the error comes
+# from"). A run that never initialized would compare two empty trajectories: checked first.
+#   replay_reproduces_run.sh ASYNEVO BENCH_REPLAY_TRACKS CONFIG WORK_DIR
+set -eu
+asynevo=$1; replay=$2; config=$3; work=$4
+rm -rf "$work"
+mkdir -p "$work"
+"$asynevo" simulate --scene boxes --motion 6dof --seed 1 --duration 2.5 --out "$work/sequence" > "$work/simulate.log"
+"$asynevo" run --dataset "$work/sequence" --config "$config" --out "$work/run" > "$work/run.log"
+"$replay" "$work/run" "$work/sequence" "$work/replay.txt" > "$work/replay.log"
+grep -v '^#' "$work/run/stamped_traj_estimate.txt" > "$work/run_traj.txt"
+grep -v '^#' "$work/replay.txt" > "$work/replay_traj.txt"
+knots=$(wc -l < "$work/run_traj.txt")
+if [ "$knots" -lt 10 ]; then
+  echo "FAIL: the run wrote $knots knots; the test needs a run that initializes" >&2
+  exit 1
+fi
+if grep -q "no backend_feed.txt" "$work/replay.log"; then
+  echo "FAIL: the replay did not find the run's backend_feed.txt" >&2
+  exit 1
+fi
+cmp "$work/run_traj.txt" "$work/replay_traj.txt"
+grep -v '^#' "$work/run/velocities.txt" > "$work/run_vel.txt"
+grep -v '^#' "$work/replay.txt.velocities.txt" > "$work/replay_vel.txt"
+cmp "$work/run_vel.txt" "$work/replay_vel.txt"
+echo "replay reproduces the run: $knots knots identical"
