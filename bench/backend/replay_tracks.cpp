@@ -159,7 +159,8 @@ int main(int argc, char** argv) try {
   while (std::getline(in, line)) {
     if (line.empty() || line[0] == '#') continue;
     // The markers the pipeline's backend reached before it took this line.
-    for (; next_feed < feed.size() && feed[next_feed].measurements <= lines; ++next_feed) advance(feed[next_feed].t_ns);
+    for (; next_feed < feed.size() && feed[next_feed].measurements <= lines; ++next_feed)
+      advance(feed[next_feed].t_ns);
     ++lines;
     std::istringstream fields(line);
     int64_t id = 0;
@@ -208,7 +209,8 @@ int main(int argc, char** argv) try {
   std::vector<StampedTwist> twists;
   for (const backend::Knot& k : estimator->takeFinalKnots()) {
     const auto& p = k.pose;  // [t_x t_y t_z q_x q_y q_z q_w], written as the run folder writes it
-    trajectory.push_back({k.t_ns, Eigen::Vector3d(p[0], p[1], p[2]), Eigen::Quaterniond(p[6], p[3], p[4], p[5])});
+    trajectory.push_back(
+        {k.t_ns, Eigen::Vector3d(p[0], p[1], p[2]), Eigen::Quaterniond(p[6], p[3], p[4], p[5])});
     const auto& w = k.velocity;  // [v ω], body frame
     twists.push_back({k.t_ns, Eigen::Vector3d(w[0], w[1], w[2]), Eigen::Vector3d(w[3], w[4], w[5])});
   }

@@ -86,8 +86,8 @@ TEST(RunEndToEnd, TwoOfflineRunsWriteIdenticalFiles) {
   ASSERT_EQ(a.exit_code, 0) << a.output;
   const auto b = runAsynevo("run --dataset " + data + " --out " + dir.file("b"));
   ASSERT_EQ(b.exit_code, 0) << b.output;
-  for (const char* f :
-       {"stamped_traj_estimate.txt", "tracks.txt", "backend_feed.txt", "velocities.txt", "landmarks.ply", "config.yaml"}) {
+  for (const char* f : {"stamped_traj_estimate.txt", "tracks.txt", "backend_feed.txt", "velocities.txt",
+                        "landmarks.ply", "config.yaml"}) {
     const std::string fa = readFile(dir.file(std::string("a/") + f)),
                       fb = readFile(dir.file(std::string("b/") + f));
     EXPECT_GT(fa.size(), 100u) << f;
