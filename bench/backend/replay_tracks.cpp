@@ -59,7 +59,9 @@ struct Args {
 
 Args parse(int argc, char** argv) {
   if (argc < 4) {
-    std::fprintf(stderr, "usage: %s RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental] [--seed N] [--dump-errors FILE]\n",
+    std::fprintf(stderr,
+                 "usage: %s RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental] "
+                 "[--seed N] [--dump-errors FILE]\n",
                  argv[0]);
     std::exit(2);
   }
@@ -103,7 +105,8 @@ std::vector<FeedMarker> readFeed(const std::string& path) {
     FeedMarker marker;
     fields >> t_text >> marker.measurements;
     const auto t_ns = parseSecondsToNs(t_text);
-    if (!fields || !t_ns) throw std::runtime_error(fmt::format("{}:{}: bad line '{}'", path, line_number, line));
+    if (!fields || !t_ns)
+      throw std::runtime_error(fmt::format("{}:{}: bad line '{}'", path, line_number, line));
     marker.t_ns = *t_ns;
     feed.push_back(marker);
   }
@@ -115,11 +118,13 @@ std::vector<FeedMarker> readFeed(const std::string& path) {
 int main(int argc, char** argv) try {
   const Args args = parse(argc, argv);
   const Config config = loadConfig(args.run + "/config.yaml");
-  const CameraModel camera = readCalibration(args.dataset + "/calib.txt", config.sensor.width, config.sensor.height);
+  const CameraModel camera =
+      readCalibration(args.dataset + "/calib.txt", config.sensor.width, config.sensor.height);
   // The frontend's undistortion (the same table, bilinear): normalized coordinates as the backend got them.
   const UndistortionTable<float> undistortion = camera.undistortionTable<float>();
   std::optional<sim::FeatureGroundTruth> truth;
-  if (args.oracle_noise_px || args.drop_edges || !args.dump_errors.empty()) truth.emplace(sim::loadSimulatedGroundTruth(args.dataset));
+  if (args.oracle_noise_px || args.drop_edges || !args.dump_errors.empty())
+    truth.emplace(sim::loadSimulatedGroundTruth(args.dataset));
 
   backend::EstimatorOptions options;
   options.config = config.backend;
@@ -185,9 +190,10 @@ int main(int argc, char** argv) try {
         continue;
       }
       if (fixed_point && dump.is_open())
-        dump << fmt::format("{} {:.6f} {:.3f} {:.3f} {:.3f} {:.3f}\n", id, m.t_ns * 1e-9, x, y, projection.pixel.x(),
-                            projection.pixel.y());
-      if (fixed_point && args.oracle_noise_px) pixel = projection.pixel + Eigen::Vector2d(noise(rng), noise(rng));
+        dump << fmt::format("{} {:.6f} {:.3f} {:.3f} {:.3f} {:.3f}\n", id, m.t_ns * 1e-9, x, y,
+                            projection.pixel.x(), projection.pixel.y());
+      if (fixed_point && args.oracle_noise_px)
+        pixel = projection.pixel + Eigen::Vector2d(noise(rng), noise(rng));
     }
     m.x = static_cast<float>(pixel.x());
     m.y = static_cast<float>(pixel.y());
@@ -214,7 +220,8 @@ int main(int argc, char** argv) try {
     const auto& w = k.velocity;  // [v ω], body frame
     twists.push_back({k.t_ns, Eigen::Vector3d(w[0], w[1], w[2]), Eigen::Vector3d(w[3], w[4], w[5])});
   }
-  std::sort(trajectory.begin(), trajectory.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
+  std::sort(trajectory.begin(), trajectory.end(),
+            [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
   std::sort(twists.begin(), twists.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
   writeTumTrajectory(args.out, trajectory);
   writeVelocities(args.out + ".velocities.txt", twists);  // for 'asynevo eval --velocities'
@@ -227,13 +234,15 @@ int main(int argc, char** argv) try {
                              r.landmarks, r.measurements, r.iterations, r.solve_ms, r.total_ms, r.final_cost);
   }
   const auto stats = estimator->stats();
-  fmt::print("{}: fed {} measurements ({} skipped), {} knots, initialized {} at {:.3f} s\n", estimator->name(),
-             fed, skipped, trajectory.size(), stats.initialized, stats.initialized_at_ns * 1e-9);
-  fmt::print("landmarks {} (marginalized {}), tracks rejected {}, outliers {}, observations marginalized {}, "
-             "dropped {} (forced) {} (untriangulated), scale anchors {}\n",
-             stats.landmarks_created, stats.landmarks_marginalized, stats.tracks_rejected, stats.outliers_removed,
-             stats.observations_marginalized, stats.observations_dropped_forced,
-             stats.observations_dropped_untriangulated, stats.scale_anchors);
+  fmt::print("{}: fed {} measurements ({} skipped), {} knots, initialized {} at {:.3f} s\n",
+             estimator->name(), fed, skipped, trajectory.size(), stats.initialized,
+             stats.initialized_at_ns * 1e-9);
+  fmt::print(
+      "landmarks {} (marginalized {}), tracks rejected {}, outliers {}, observations marginalized {}, "
+      "dropped {} (forced) {} (untriangulated), scale anchors {}\n",
+      stats.landmarks_created, stats.landmarks_marginalized, stats.tracks_rejected, stats.outliers_removed,
+      stats.observations_marginalized, stats.observations_dropped_forced,
+      stats.observations_dropped_untriangulated, stats.scale_anchors);
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "error: %s\n", e.what());
