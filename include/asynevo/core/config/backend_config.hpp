@@ -38,7 +38,7 @@ struct BackendConfig {
   /// segments: "fixed_poses" keeps them as projections from their (now fixed) interpolated poses,
   /// "prior" folds them into the Schur complement with the landmarks in the prior's blanket, "drop"
   /// discards them (the prior stays on knots only). docs/backend.md, "Forced marginalization".
-  std::string forced_marginalization = "drop";
+  std::string forced_marginalization = "fixed_poses";
 
   // --- solver ---
   int max_iterations = 5;
