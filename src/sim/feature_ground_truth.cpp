@@ -138,9 +138,11 @@ AccuracySummary summarize(const std::vector<const TrackAccuracy*>& tracks,
                           const FeatureAccuracyOptions& options) {
   AccuracySummary s;
   std::vector<double> errors, lifetimes;
+  std::vector<double> along;
   for (const TrackAccuracy* t : tracks) {
     ++s.tracks;
     errors.insert(errors.end(), t->errors_px.begin(), t->errors_px.end());
+    along.insert(along.end(), t->along_motion_px.begin(), t->along_motion_px.end());
     lifetimes.push_back(static_cast<double>(t->last_ns - t->first_ns) * 1e-9);
     if (t->first_bad_ns >= 0 && t->bad_survival_ns > options.max_bad_survival_ns) ++s.bad_tracks;
     s.worst_bad_survival_ns = std::max(s.worst_bad_survival_ns, t->bad_survival_ns);
@@ -154,6 +156,8 @@ AccuracySummary summarize(const std::vector<const TrackAccuracy*>& tracks,
   s.max_px = errors.empty() ? 0 : errors.back();
   const auto above = errors.end() - std::upper_bound(errors.begin(), errors.end(), options.bad_error_px);
   s.share_above_bad = errors.empty() ? 0 : static_cast<double>(above) / static_cast<double>(errors.size());
+  std::sort(along.begin(), along.end());
+  s.median_along_motion_px = quantile(along, 0.5);
   s.lifetime_median_s = quantile(lifetimes, 0.5);
   s.lifetime_p90_s = quantile(lifetimes, 0.9);
   return s;
@@ -163,11 +167,11 @@ std::string summaryLine(const char* label, const AccuracySummary& s, const Featu
   return fmt::format(
       "{:<18}{} tracks, {} errors: median {:.3f} px, p90 {:.3f}, p99 {:.3f}, max {:.1f}, > {:g} px {:.2f} %; "
       "tracks with error > {:g} px surviving > {:g} ms: {} (worst {:.1f} ms); lifetime median {:.3f} s, "
-      "p90 {:.3f} s\n",
+      "p90 {:.3f} s; median error along the motion {:+.3f} px\n",
       label, s.tracks, s.measurements, s.median_px, s.p90_px, s.p99_px, s.max_px, o.bad_error_px,
       100 * s.share_above_bad, o.bad_error_px, static_cast<double>(o.max_bad_survival_ns) * 1e-6,
       s.bad_tracks, static_cast<double>(s.worst_bad_survival_ns) * 1e-6, s.lifetime_median_s,
-      s.lifetime_p90_s);
+      s.lifetime_p90_s, s.median_along_motion_px);
 }
 
 }  // namespace
@@ -207,6 +211,16 @@ FeatureAccuracy evaluateFeatureTracks(const std::vector<TrackMeasurement>& measu
         const double e = p.valid ? (p.pixel - Eigen::Vector2d(ms[i]->x, ms[i]->y)).norm()
                                  : std::numeric_limits<double>::infinity();
         t.errors_px.push_back(e);
+        if (p.valid) {
+          // Direction of the image motion from the projections 1 ms either side.
+          constexpr int64_t kHalfStep = 1'000'000;
+          const FeatureGroundTruth::Projection before = ground_truth.project(a.p_w, ms[i]->t_ns - kHalfStep);
+          const FeatureGroundTruth::Projection after = ground_truth.project(a.p_w, ms[i]->t_ns + kHalfStep);
+          const Eigen::Vector2d motion = after.pixel - before.pixel;
+          if (before.valid && after.valid && motion.norm() > 2e-3)  // > 1 px/s
+            t.along_motion_px.push_back(
+                (Eigen::Vector2d(ms[i]->x, ms[i]->y) - p.pixel).dot(motion.normalized()));
+        }
         t.occluded += p.occluded ? 1 : 0;
         t.max_error_px = std::max(t.max_error_px, e);
         if (e > options.bad_error_px && t.first_bad_ns < 0) t.first_bad_ns = ms[i]->t_ns;

@@ -152,6 +152,42 @@ TEST(FeatureAccuracy, CountsErrorsAndLongLivedBadTracks) {
   EXPECT_NE(r.summary().find("surviving > 20 ms: 1"), std::string::npos) << r.summary();
 }
 
+TEST(FeatureAccuracy, SignsTheErrorAlongTheMotion) {
+  const CameraModel camera = CameraModel::pinhole(240, 180, 200, 200, 120, 90);
+  Scene scene;
+  scene.planes.push_back(frontoParallel("wall", 2.0, 10));
+  const FeatureGroundTruth gt(scene, camera, slide(0.5));
+  // Two tracks: every measurement after the first 0.3 px behind the image motion (a lag), or 0.2 px
+  // across it; the first one is exact (it defines the anchor).
+  std::vector<TrackMeasurement> ms;
+  const auto add = [&](int64_t id, double x0, int64_t t_ns, double along, double across) {
+    const auto a = gt.anchor(0, Eigen::Vector2d(x0, 90));
+    const auto p = gt.project(a.p_w, t_ns);
+    const Eigen::Vector2d motion =
+        (gt.project(a.p_w, t_ns + 1'000'000).pixel - gt.project(a.p_w, t_ns - 1'000'000).pixel).normalized();
+    const Eigen::Vector2d q = p.pixel + along * motion + across * Eigen::Vector2d(-motion.y(), motion.x());
+    TrackMeasurement m;
+    m.feature_id = id;
+    m.t_ns = t_ns;
+    m.x = static_cast<float>(q.x());
+    m.y = static_cast<float>(q.y());
+    ms.push_back(m);
+  };
+  for (int k = 0; k <= 10; ++k) {
+    const int64_t t = k * 5'000'000;
+    add(0, 80, t, k > 0 ? -0.3 : 0.0, 0.0);
+    add(1, 160, t, 0.0, k > 0 ? 0.2 : 0.0);
+  }
+  const FeatureAccuracy r = evaluateFeatureTracks(ms, gt);
+  ASSERT_EQ(r.tracks.size(), 2u);
+  ASSERT_EQ(r.tracks[0].along_motion_px.size(), 10u);
+  for (double a : r.tracks[0].along_motion_px) EXPECT_NEAR(a, -0.3, 1e-3);
+  for (double a : r.tracks[1].along_motion_px) EXPECT_NEAR(a, 0.0, 1e-3);
+  // Median of ten -0.3 and ten 0.0: halfway.
+  EXPECT_NEAR(r.all.median_along_motion_px, -0.15, 1e-3);
+  EXPECT_NE(r.summary().find("median error along the motion -0.150 px"), std::string::npos) << r.summary();
+}
+
 TEST(FeatureGroundTruth, RebuildsTheGroundTruthOfASimulatedFolder) {
   TempDir dir;
   SimulationSpec spec;

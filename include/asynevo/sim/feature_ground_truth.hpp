@@ -113,6 +113,10 @@ struct TrackAccuracy {
   int64_t first_bad_ns = -1;      ///< time of the first error above bad_error_px, or -1
   int64_t bad_survival_ns = 0;    ///< last_ns - first_bad_ns (0 when never bad)
   std::vector<double> errors_px;  ///< one per measurement after the first
+  /// Signed error component along the ground-truth image motion (measured − true, projected on the
+  /// direction of motion at that time; > 0 ahead, < 0 lagging), one per measurement after the first
+  /// whose point moves by more than 1 px/s and stays in view.
+  std::vector<double> along_motion_px;
 };
 
 /// Figures over a set of tracks.
@@ -120,8 +124,9 @@ struct AccuracySummary {
   int tracks = 0;             ///< tracks evaluated (anchored, >= min_measurements)
   uint64_t measurements = 0;  ///< errors counted (measurements after each track's first)
   double median_px = 0, p90_px = 0, p99_px = 0, max_px = 0;
-  double share_above_bad = 0;  ///< share of errors above bad_error_px
-  int bad_tracks = 0;          ///< tracks whose error exceeded bad_error_px and survived > max_bad_survival
+  double share_above_bad = 0;         ///< share of errors above bad_error_px
+  double median_along_motion_px = 0;  ///< median signed error along the motion (negative: lag)
+  int bad_tracks = 0;  ///< tracks whose error exceeded bad_error_px and survived > max_bad_survival
   int64_t worst_bad_survival_ns = 0;
   double lifetime_median_s = 0, lifetime_p90_s = 0;
 };
