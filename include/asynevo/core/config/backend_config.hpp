@@ -12,7 +12,7 @@ struct BackendConfig {
   double knot_dt_ms = 50.0;  ///< knot spacing in event time
   /// Power-spectral density of the WNOA prior, diagonal [tx ty tz rx ry rz]: (m/s²)²·s for
   /// translation, (rad/s²)²·s for rotation. Monocular: translation units follow the map scale.
-  std::vector<double> q_c = {10.0, 10.0, 10.0, 1.0, 1.0, 1.0};
+  std::vector<double> q_c = {10.0, 10.0, 10.0, 0.3, 0.3, 0.3};
 
   // --- measurements ---
   double pixel_sigma = 1.0;     ///< measurement standard deviation in pixels
