@@ -1,0 +1,50 @@
+#!/usr/bin/python3
+"""Unit tests of tools/robustness_sweep.py helpers (registered with ctest in tests/tools/CMakeLists.txt)."""
+
+import os
+import sys
+
+REPO_DIR = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(REPO_DIR, "tools"))
+
+import robustness_sweep as rs  # noqa: E402
+
+FAILURES = []
+
+
+def check(cond, what):
+    print(("ok      " if cond else "FAILED  ") + what, flush=True)
+    if not cond:
+        FAILURES.append(what)
+
+
+def raises_exit(fn):
+    try:
+        fn()
+    except SystemExit as e:
+        return str(e)
+    return None
+
+
+def main():
+    text = "frontend:\n  min_dt_ms: 5\n  tracker: x\nbackend:\n  q_c: [10, 10, 10, 1, 1, 1]\n  min_dt_ms: 7\n"
+    out = rs.override_yaml(text, ["backend.q_c=[10,10,10,0.3,0.3,0.3]", "frontend.min_dt_ms=4"], "cfg")
+    check("  q_c: [10,10,10,0.3,0.3,0.3]" in out, "a backend list is replaced")
+    check("frontend:\n  min_dt_ms: 4\n" in out and "  min_dt_ms: 7" in out,
+          "a key is replaced in its own section only: %r" % out)
+    msg = raises_exit(lambda: rs.override_yaml(text, ["backend.nope=1"], "cfg.yaml"))
+    check(msg is not None and "no key nope in section backend of cfg.yaml" in msg, "an unknown key is an error: %s" % msg)
+    msg = raises_exit(lambda: rs.override_yaml(text, ["q_c=1"], "cfg.yaml"))
+    check(msg is not None and "section.key=value" in msg, "a malformed override is an error: %s" % msg)
+    check(rs.override_yaml(text, [], "cfg") == text, "no override leaves the text as it was")
+    check(rs.mean([1.0, None, 3.0]) == 2.0, "the mean skips missing values")
+    check(rs.mean([None]) != rs.mean([None]), "the mean of nothing is NaN")
+    check(set(rs.TRACK_SETS) >= {"default"} and len(rs.SEQUENCES) == 8, "eight sequences, a default track set")
+    if FAILURES:
+        print("%d check(s) failed" % len(FAILURES))
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
