@@ -32,6 +32,13 @@ std::shared_ptr<const Motion> slide(double speed) {
                                           });
 }
 
+/// A 240x180 pinhole camera sliding at 0.5 m/s before a 10 m wide wall 2 m away.
+FeatureGroundTruth slidingBeforeAWall() {
+  Scene scene;
+  scene.planes.push_back(frontoParallel("wall", 2.0, 10));
+  return FeatureGroundTruth(scene, CameraModel::pinhole(240, 180, 200, 200, 120, 90), slide(0.5));
+}
+
 TEST(SampledMotion, InterpolatesBetweenSamplesAndClampsOutside) {
   StampedTrajectory samples(2);
   samples[0].t_ns = 0;
@@ -49,10 +56,7 @@ TEST(SampledMotion, InterpolatesBetweenSamplesAndClampsOutside) {
 }
 
 TEST(FeatureGroundTruth, PointUnderAPixelMovesAsTheGeometrySays) {
-  const CameraModel camera = CameraModel::pinhole(240, 180, 200, 200, 120, 90);
-  Scene scene;
-  scene.planes.push_back(frontoParallel("wall", 2.0, 10));
-  const FeatureGroundTruth gt(scene, camera, slide(0.5));
+  const FeatureGroundTruth gt = slidingBeforeAWall();
   const FeatureGroundTruth::Anchor a = gt.anchor(0, Eigen::Vector2d(120, 90));
   ASSERT_TRUE(a.valid);
   EXPECT_FALSE(a.depth_edge);
@@ -111,10 +115,7 @@ TEST(FeatureGroundTruth, FlagsDepthEdgesAndOcclusion) {
 }
 
 TEST(FeatureAccuracy, CountsErrorsAndLongLivedBadTracks) {
-  const CameraModel camera = CameraModel::pinhole(240, 180, 200, 200, 120, 90);
-  Scene scene;
-  scene.planes.push_back(frontoParallel("wall", 2.0, 10));
-  const FeatureGroundTruth gt(scene, camera, slide(0.5));
+  const FeatureGroundTruth gt = slidingBeforeAWall();
   std::vector<TrackMeasurement> ms;
   // Measurement every 5 ms; track 0 exact, track 1 off by 6 px from 20 ms on for 30 ms (bad, counted),
   // track 2 off by 6 px only at its last two measurements (5 ms: not counted), track 3 has one measurement.
@@ -153,10 +154,7 @@ TEST(FeatureAccuracy, CountsErrorsAndLongLivedBadTracks) {
 }
 
 TEST(FeatureAccuracy, SignsTheErrorAlongTheMotion) {
-  const CameraModel camera = CameraModel::pinhole(240, 180, 200, 200, 120, 90);
-  Scene scene;
-  scene.planes.push_back(frontoParallel("wall", 2.0, 10));
-  const FeatureGroundTruth gt(scene, camera, slide(0.5));
+  const FeatureGroundTruth gt = slidingBeforeAWall();
   // Two tracks: every measurement after the first 0.3 px behind the image motion (a lag), or 0.2 px
   // across it; the first one is exact (it defines the anchor).
   std::vector<TrackMeasurement> ms;

@@ -15,20 +15,12 @@ import sys
 import tempfile
 import time
 
-REPO_DIR = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(REPO_DIR, "tools"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from tool_checks import REPO_DIR, check, exit_code  # noqa: E402
 
 import numpy as np  # noqa: E402
 
 import benchmark_suite as bs  # noqa: E402
-
-FAILURES = []
-
-
-def check(cond, what):
-    print(("ok      " if cond else "FAILED  ") + what, flush=True)
-    if not cond:
-        FAILURES.append(what)
 
 
 # ----------------------------------------------------------------------------- units
@@ -173,11 +165,7 @@ def main():
         units()
     else:
         smoke(os.path.abspath(a.asynevo), os.path.abspath(a.work))
-    if FAILURES:
-        print("%d check(s) failed" % len(FAILURES))
-        return 1
-    print("all checks passed")
-    return 0
+    return exit_code()
 
 
 if __name__ == "__main__":

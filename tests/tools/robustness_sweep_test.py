@@ -4,18 +4,10 @@
 import os
 import sys
 
-REPO_DIR = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(REPO_DIR, "tools"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from tool_checks import check, exit_code  # noqa: E402
 
 import robustness_sweep as rs  # noqa: E402
-
-FAILURES = []
-
-
-def check(cond, what):
-    print(("ok      " if cond else "FAILED  ") + what, flush=True)
-    if not cond:
-        FAILURES.append(what)
 
 
 def raises_exit(fn):
@@ -40,10 +32,7 @@ def main():
     check(rs.mean([1.0, None, 3.0]) == 2.0, "the mean skips missing values")
     check(rs.mean([None]) != rs.mean([None]), "the mean of nothing is NaN")
     check(set(rs.TRACK_SETS) >= {"default"} and len(rs.SEQUENCES) == 8, "eight sequences, a default track set")
-    if FAILURES:
-        print("%d check(s) failed" % len(FAILURES))
-        return 1
-    return 0
+    return exit_code()
 
 
 if __name__ == "__main__":
