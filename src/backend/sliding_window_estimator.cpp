@@ -162,6 +162,8 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   }
   stats_.initialized = true;
   stats_.initialized_at_ns = t_ns;
+  stats_.init_views = {durationSeconds(two_view.t_a_ns, two_view.t_b_ns) * 1e3, two_view.features,
+                       two_view.inliers, two_view.parallax_px, landmarks};
   stats_.knots = trajectory_.size();
   const auto start = Clock::now();
   const auto [iterations, cost] = solve(std::max(options_.config.max_iterations, 20));

@@ -156,8 +156,12 @@ std::string runSummaryText(const RunSummary& s) {
       s.backend_name, s.knots_written, s.landmarks_written, e.marginalizations, e.knots_marginalized,
       e.max_window_knots);
   if (e.initialized)
-    t += fmt::format("initialized     at t = {:.3f} s after {} attempt(s)\n",
-                     nsToSeconds(e.initialized_at_ns), e.init_attempts);
+    t += fmt::format(
+        "initialized     at t = {:.3f} s after {} attempt(s), from two views {:.0f} ms apart: {} features, "
+        "{} "
+        "inliers, parallax {:.1f} px, {} landmarks\n",
+        nsToSeconds(e.initialized_at_ns), e.init_attempts, e.init_views.span_ms, e.init_views.features,
+        e.init_views.inliers, e.init_views.parallax_px, e.init_views.landmarks);
   t +=
       fmt::format("update time     median {:.2f} ms, p95 {:.2f} ms, max {:.2f} ms over {} updates\n",
                   s.update_time.median_ms, s.update_time.p95_ms, s.update_time.max_ms, s.update_time.updates);
@@ -216,6 +220,11 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("initialized_at_s", e.initialized ? nsToSeconds(e.initialized_at_ns) : 0.0)
       .add("init_attempts", e.init_attempts)
       .add("init_last_failure", e.init_last_failure)
+      .add("init_span_ms", e.init_views.span_ms)
+      .add("init_features", e.init_views.features)
+      .add("init_inliers", e.init_views.inliers)
+      .add("init_parallax_px", e.init_views.parallax_px)
+      .add("init_landmarks", e.init_views.landmarks)
       .add("measurements_received", e.measurements_received)
       .add("measurements_before_window", e.measurements_before_window)
       .add("measurements_out_of_order", e.measurements_out_of_order)

@@ -98,6 +98,16 @@ TEST(SlidingWindowEstimator, RelaxesTheInitializationCountsAfterAWait) {
   const RunResult relaxed = runEstimator(measurements, duration, options);
   ASSERT_TRUE(relaxed.stats.initialized) << relaxed.stats.init_last_failure;
   EXPECT_GE(relaxed.stats.initialized_at_ns, measurements.front().t_ns + 500'000'000);
+  // The two views it started from are reported, and they passed the relaxed checks.
+  const auto& views = relaxed.stats.init_views;
+  EXPECT_GT(views.span_ms, 0.0);
+  EXPECT_LE(views.span_ms, options.config.init_window_ms + 1e-6);
+  EXPECT_GE(views.features, 30);
+  EXPECT_GE(views.inliers, 25);
+  EXPECT_LE(views.inliers, views.features);
+  EXPECT_GE(views.parallax_px, options.config.init_min_parallax_px);
+  EXPECT_GE(views.landmarks, views.inliers / 2);
+  EXPECT_EQ(strict.stats.init_views.features, 0);  // never initialized: nothing reported
 }
 
 TEST(SlidingWindowEstimator, RejectsWholeTrajectoriesThatAreNoFixedScenePoint) {

@@ -36,6 +36,14 @@ struct EstimatorStats {
   int64_t initialized_at_ns = 0;
   uint64_t init_attempts = 0;
   std::string init_last_failure;  ///< why the last initialization attempt failed (with counts)
+  /// The two views the estimator started from (valid once initialized).
+  struct InitViews {
+    double span_ms = 0;      ///< t_b − t_a
+    int features = 0;        ///< seen at both times
+    int inliers = 0;         ///< five-point inliers in front of both cameras
+    double parallax_px = 0;  ///< median inlier parallax with the rotation removed
+    int landmarks = 0;       ///< triangulated right after
+  } init_views;
   uint64_t measurements_received = 0;
   uint64_t measurements_before_window = 0;  ///< arrived for a time older than the window: dropped
   uint64_t measurements_out_of_order = 0;   ///< earlier than the same feature's previous one: dropped
