@@ -52,7 +52,7 @@ struct BackendConfig {
   int init_min_features = 30;          ///< features seen at both initialization times
   int init_min_inliers = 25;           ///< five-point RANSAC inliers
   double init_ransac_px = 1.0;         ///< RANSAC threshold in pixels
-  double init_window_ms = 300.0;       ///< span of the initialization window
+  double init_window_ms = 500.0;       ///< span of the initialization window
   /// After this much event time of failed attempts (from the first measurement), the feature and
   /// inlier counts are multiplied by init_relaxed_fraction: a scene whose features live too briefly
   /// for 30 at both ends still starts, and one that has them keeps the stricter start.
