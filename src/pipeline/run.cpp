@@ -157,9 +157,8 @@ std::string runSummaryText(const RunSummary& s) {
       e.max_window_knots);
   if (e.initialized)
     t += fmt::format(
-        "initialized     at t = {:.3f} s after {} attempt(s), from two views {:.0f} ms apart: {} features, "
-        "{} "
-        "inliers, parallax {:.1f} px, {} landmarks\n",
+        "initialized     at t = {:.3f} s after {} attempt(s), from two views {:.0f} ms apart: "
+        "{} features, {} inliers, parallax {:.1f} px, {} landmarks\n",
         nsToSeconds(e.initialized_at_ns), e.init_attempts, e.init_views.span_ms, e.init_views.features,
         e.init_views.inliers, e.init_views.parallax_px, e.init_views.landmarks);
   t +=
