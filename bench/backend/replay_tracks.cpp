@@ -237,10 +237,7 @@ int main(int argc, char** argv) try {
   fmt::print("{}: fed {} measurements ({} skipped), {} knots, initialized {} at {:.3f} s\n",
              estimator->name(), fed, skipped, trajectory.size(), stats.initialized,
              stats.initialized_at_ns * 1e-9);
-  if (stats.initialized)
-    fmt::print("initial views {:.0f} ms apart: {} features, {} inliers, parallax {:.1f} px, {} landmarks\n",
-               stats.init_views.span_ms, stats.init_views.features, stats.init_views.inliers,
-               stats.init_views.parallax_px, stats.init_views.landmarks);
+  if (stats.initialized) fmt::print("initial views {}\n", backend::describeInitViews(stats.init_views));
   fmt::print(
       "landmarks {} (marginalized {}), tracks rejected {}, outliers {}, observations marginalized {}, "
       "dropped {} (forced) {} (untriangulated), scale anchors {}\n",

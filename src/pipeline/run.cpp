@@ -156,11 +156,9 @@ std::string runSummaryText(const RunSummary& s) {
       s.backend_name, s.knots_written, s.landmarks_written, e.marginalizations, e.knots_marginalized,
       e.max_window_knots);
   if (e.initialized)
-    t += fmt::format(
-        "initialized     at t = {:.3f} s after {} attempt(s), from two views {:.0f} ms apart: "
-        "{} features, {} inliers, parallax {:.1f} px, {} landmarks\n",
-        nsToSeconds(e.initialized_at_ns), e.init_attempts, e.init_views.span_ms, e.init_views.features,
-        e.init_views.inliers, e.init_views.parallax_px, e.init_views.landmarks);
+    t += fmt::format("initialized     at t = {:.3f} s after {} attempt(s), from two views {}\n",
+                     nsToSeconds(e.initialized_at_ns), e.init_attempts,
+                     backend::describeInitViews(e.init_views));
   t +=
       fmt::format("update time     median {:.2f} ms, p95 {:.2f} ms, max {:.2f} ms over {} updates\n",
                   s.update_time.median_ms, s.update_time.p95_ms, s.update_time.max_ms, s.update_time.updates);

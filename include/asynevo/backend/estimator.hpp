@@ -69,6 +69,10 @@ struct EstimatorStats {
   int last_prior_rank = 0;
 };
 
+/// "N ms apart: F features, I inliers, parallax P px, L landmarks": the two views initialization
+/// started from, as the run summary and the backend replay print them.
+std::string describeInitViews(const EstimatorStats::InitViews& views);
+
 /// A triangulated landmark (world coordinates) for landmarks.ply.
 struct LandmarkPoint {
   int64_t id = 0;
