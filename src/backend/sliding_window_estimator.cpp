@@ -206,7 +206,29 @@ void SlidingWindowEstimator::update(int64_t t_ns) {
   stats_.max_window_knots = std::max(stats_.max_window_knots, record.window_knots);
 }
 
+double SlidingWindowEstimator::medianLandmarkDepth() const {
+  if (trajectory_.size() == 0) return 0;
+  const lie::SE3 T_c_w = trajectory_.knots().rbegin()->second.T_w_c().inverse();
+  std::vector<double> depths;
+  for (const auto& [id, track] : tracks_)
+    if (track.triangulated)
+      depths.push_back((T_c_w * Eigen::Map<const Eigen::Vector3d>(track.p_w.data())).z());
+  if (depths.size() < 10) return 0;
+  std::nth_element(depths.begin(), depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2),
+                   depths.end());
+  return depths[depths.size() / 2];
+}
+
+bool SlidingWindowEstimator::depthPlausible(const double* p_w, double median) const {
+  const double range = options_.config.landmark_depth_range;
+  if (range <= 0 || median <= 0) return true;
+  const lie::SE3 T_c_w = trajectory_.knots().rbegin()->second.T_w_c().inverse();
+  const double z = (T_c_w * Eigen::Map<const Eigen::Vector3d>(p_w)).z();
+  return z > median / range && z < median * range;
+}
+
 void SlidingWindowEstimator::triangulateTracks() {
+  const double median_depth = medianLandmarkDepth();
   const BackendConfig& c = options_.config;
   TriangulationOptions tri;
   tri.min_parallax_deg = c.min_parallax_deg;
@@ -225,6 +247,10 @@ void SlidingWindowEstimator::triangulateTracks() {
     const TriangulationResult result = triangulate(views, tri);
     if (!result.p_w) {
       ++stats_.triangulation_failures[static_cast<std::size_t>(result.failure)];
+      continue;
+    }
+    if (!depthPlausible(result.p_w->data(), median_depth)) {
+      ++stats_.landmarks_depth_rejected;
       continue;
     }
     track.triangulated = true;
@@ -246,7 +272,9 @@ void SlidingWindowEstimator::buildFactors(std::vector<FactorEntry>& factors, std
   for (auto it = knots.begin(); std::next(it) != knots.end(); ++it) {
     Knot& a = it->second;
     Knot& b = std::next(it)->second;
-    factors.push_back({std::make_shared<WnoaPriorFactor>(a.t_ns, b.t_ns, Q_c_), nullptr,
+    factors.push_back({std::make_shared<WnoaPriorFactor>(a.t_ns, b.t_ns, Q_c_, gp::kDefaultSeriesOrder,
+                                                         options_.config.scale_free_prior),
+                       nullptr,
                        {a.pose.data(), a.velocity.data(), b.pose.data(), b.velocity.data()}});
   }
   const double sigma = normalizedThreshold(options_.config.pixel_sigma);
@@ -509,7 +537,17 @@ void SlidingWindowEstimator::removeOutliers() {
     r.sum_squared += ok ? norm * norm : limit * limit;
     ++r.count;
   }
+  const double median_depth = medianLandmarkDepth();
   for (auto& [track, r] : per_track) {
+    if (!depthPlausible(track->p_w.data(), median_depth)) {
+      // A low-parallax landmark that ran away (or collapsed toward the camera): retriangulated later,
+      // with the parallax it has gained by then.
+      releaseFromPrior(track->p_w.data());
+      track->triangulated = false;
+      track->observations_at_last_attempt = 0;
+      ++stats_.landmarks_depth_reset;
+      continue;
+    }
     // A landmark that does not fit as a whole is no fixed scene point (or its tracker drifted): its
     // measurements bias every pose they touch, so the trajectory leaves the estimation for good.
     if (track_limit > 0 && std::sqrt(r.sum_squared / r.count) > track_limit) {

@@ -246,6 +246,8 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("tracks_rejected", e.tracks_rejected)
       .add("measurements_of_rejected_tracks", e.measurements_of_rejected_tracks)
       .add("landmarks_lost", e.landmarks_lost)
+      .add("landmarks_depth_rejected", e.landmarks_depth_rejected)
+      .add("landmarks_depth_reset", e.landmarks_depth_reset)
       .add("scale_anchors", e.scale_anchors)
       .add("max_window_knots", e.max_window_knots)
       .add("last_prior_rank", e.last_prior_rank);

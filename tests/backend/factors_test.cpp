@@ -1,10 +1,12 @@
 #include <ceres/loss_function.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <array>
 #include <cstdio>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "asynevo/backend/factors/fixed_pose_projection_factor.hpp"
@@ -129,6 +131,83 @@ TEST(WnoaPriorFactor, ZeroOnConstantVelocity) {
   gp::Vec12 r;
   ASSERT_TRUE(factor.Evaluate(params, r.data(), nullptr));
   EXPECT_LT(r.norm(), 1e-11);
+}
+
+/// The factor's whitened residual and tangent Jacobian (12×24: δT_k, δϖ_k, δT_{k+1}, δϖ_{k+1}).
+std::pair<gp::Vec12, Eigen::Matrix<double, 12, 24>> evaluateTangent(
+    const WnoaPriorFactor& factor, const std::vector<std::vector<double>>& values) {
+  const double* params[] = {values[0].data(), values[1].data(), values[2].data(), values[3].data()};
+  Eigen::Matrix<double, 12, 7, Eigen::RowMajor> J0, J2;
+  Eigen::Matrix<double, 12, 6, Eigen::RowMajor> J1, J3;
+  double* jacobians[] = {J0.data(), J1.data(), J2.data(), J3.data()};
+  gp::Vec12 r;
+  EXPECT_TRUE(factor.Evaluate(params, r.data(), jacobians));
+  Eigen::Matrix<double, 12, 24> J;
+  J << J0.leftCols<6>(), J1, J2.leftCols<6>(), J3;
+  return {r, J};
+}
+
+TEST(WnoaPriorFactor, ScaleFreeJacobianHasNoComponentAlongTheScaleOnly) {
+  std::mt19937 rng(12);
+  Vec6 q;
+  q << 0.5, 0.5, 0.5, 0.2, 0.2, 0.2;
+  const lie::Mat6 Q_c = q.asDiagonal();
+  for (double xi_norm : {0.05, 0.3}) {
+    const KnotPair p = randomKnotPair(rng, xi_norm);
+    const std::vector<std::vector<double>> values = {poseBlock(p.T_k), vecBlock(p.w_k), poseBlock(p.T_k1),
+                                                     vecBlock(p.w_k1)};
+    const double* params[] = {values[0].data(), values[1].data(), values[2].data(), values[3].data()};
+    const auto [r, J] = evaluateTangent(WnoaPriorFactor(p.dt, Q_c), values);
+    const auto [r_free, J_free] =
+        evaluateTangent(WnoaPriorFactor(p.dt, Q_c, gp::kDefaultSeriesOrder, true), values);
+    EXPECT_EQ((r - r_free).norm(), 0.0) << "the residual is unchanged";
+
+    // u is the scale direction: scaling the map by (1 ± ε) about T_k's position, applied to the values
+    // themselves, changes the residual by ±ε J u (central difference).
+    const Eigen::Matrix<double, 24, 1> u = WnoaPriorFactor::scaleDirection(params);
+    const double eps = 1e-6;
+    gp::Vec12 r_scaled[2];
+    for (int side = 0; side < 2; ++side) {
+      const double s = 1.0 + (side == 0 ? eps : -eps);
+      const SE3 T_k1(p.T_k1.rotation(),
+                     p.T_k.translation() + s * (p.T_k1.translation() - p.T_k.translation()));
+      Vec6 w_k = p.w_k, w_k1 = p.w_k1;
+      w_k.head<3>() *= s;
+      w_k1.head<3>() *= s;
+      const std::vector<std::vector<double>> scaled = {poseBlock(p.T_k), vecBlock(w_k), poseBlock(T_k1),
+                                                       vecBlock(w_k1)};
+      const double* scaled_params[] = {scaled[0].data(), scaled[1].data(), scaled[2].data(),
+                                       scaled[3].data()};
+      ASSERT_TRUE(WnoaPriorFactor(p.dt, Q_c).Evaluate(scaled_params, r_scaled[side].data(), nullptr));
+    }
+    const gp::Vec12 numeric = (r_scaled[0] - r_scaled[1]) / (2 * eps);
+    // The translational entries of e are homogeneous of degree 1 in the scale, the rotational ones of
+    // degree 0: the plain prior pulls on the scale with J u = L [e_ρ; 0; e_v; 0].
+    gp::Vec12 e_translational = gp::priorError(p.T_k, p.w_k, p.T_k1, p.w_k1, p.dt);
+    e_translational.segment<3>(3).setZero();
+    e_translational.segment<3>(9).setZero();
+    const gp::Vec12 pull = WnoaPriorFactor(p.dt, Q_c).sqrtInformation() * e_translational;
+    EXPECT_GT(pull.norm(), 0.1 * r.norm());
+    // Tolerance as in WhitenedResidualAndJacobians: the series of M limits the analytic Jacobian.
+    const double tol = xi_norm <= 0.1 ? 1e-5 : 1e-3;
+    EXPECT_LT((J * u - pull).norm(), tol * pull.norm());
+    EXPECT_LT((numeric - J * u).norm(), tol * (J * u).norm());
+
+    // The projected Jacobian: no component along u, unchanged on the rigid gauge directions (where the
+    // plain one is zero too) and on every direction orthogonal to w, a rank-one change otherwise.
+    EXPECT_LT((J_free * u).norm(), 1e-9 * (J * u).norm());
+    const Eigen::Matrix<double, 24, 6> G = WnoaPriorFactor::gaugeDirections(params);
+    EXPECT_LT((J * G).norm(), 1e-8 * J.norm());
+    EXPECT_LT((J_free * G).norm(), 1e-8 * J.norm());
+    const Eigen::Matrix<double, 24, 1> w = u - G * (G.transpose() * G).ldlt().solve(G.transpose() * u);
+    for (int trial = 0; trial < 5; ++trial) {
+      Eigen::Matrix<double, 24, 1> d = Eigen::Matrix<double, 24, 1>::Random();
+      d -= w * (w.dot(d) / w.squaredNorm());
+      EXPECT_LT((J_free * d - J * d).norm(), 1e-9 * J.norm() * d.norm());
+    }
+    Eigen::JacobiSVD<Eigen::Matrix<double, 12, 24>> svd(J_free - J);
+    EXPECT_LT(svd.singularValues()(1), 1e-9 * svd.singularValues()(0)) << "a rank-one change";
+  }
 }
 
 TEST(GpProjectionFactor, ResidualIsZeroAtTheInterpolatedTruthAndJacobiansMatch) {

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
+#include <random>
 #include <string>
 
 #include "estimator_harness.hpp"
@@ -134,9 +136,13 @@ TEST(SlidingWindowEstimator, RejectsWholeTrajectoriesThatAreNoFixedScenePoint) {
   }
   std::stable_sort(measurements.begin(), measurements.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
 
-  SlidingWindowEstimator estimator(defaultOptions());
+  // The depth gate (landmark_depth_range) catches some of these corners too; this test is about the
+  // RMS test alone.
+  EstimatorOptions on = defaultOptions();
+  on.config.landmark_depth_range = 0;
+  SlidingWindowEstimator estimator(on);
   const RunResult with = testing::driveEstimator(estimator, measurements, duration);
-  EstimatorOptions off = defaultOptions();
+  EstimatorOptions off = on;
   off.config.track_outlier_rms_px = 0;
   const RunResult without = runEstimator(measurements, duration, off);
   ASSERT_TRUE(with.stats.initialized) << with.stats.init_last_failure;
@@ -155,6 +161,42 @@ TEST(SlidingWindowEstimator, RejectsWholeTrajectoriesThatAreNoFixedScenePoint) {
   // without rejection 0.073 / 0.074 m with the three-span initializer, 0.126 / 0.062 m with the scored
   // one) and depends on when each corner is caught; docs/backend.md, "Where the error comes from".
   EXPECT_TRUE(std::isfinite(accuracy(with.knots).ate_rmse));
+}
+
+TEST(SlidingWindowEstimator, KeepsNoLandmarkOutsideTheDepthRange) {
+  // The scene's points lie 2.5-5 m deep (median ~3.7); add 12 points 60-80 m away, seen all along. With
+  // the parallax test off they triangulate (with a poor depth); landmark_depth_range 6 keeps none of them.
+  testing::SyntheticScene scene(150);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> ux(-0.2, 0.2), uz(60.0, 80.0);
+  for (int j = 0; j < 12; ++j) {
+    const double z = uz(rng);
+    scene.landmarks.emplace_back(ux(rng) * z, ux(rng) * z, z);
+  }
+  const double duration = 2.0;
+  const auto measurements = scene.measurements(duration, 0.01, 0.4, 0.3);
+  auto farLandmarks = [&](double range, EstimatorStats& stats) {
+    EstimatorOptions options = defaultOptions();
+    options.config.min_parallax_deg = 0;
+    options.config.landmark_depth_range = range;
+    SlidingWindowEstimator estimator(options);
+    stats = testing::driveEstimator(estimator, measurements, duration).stats;
+    // In map units (the map's scale is set at initialization): relative to the median world z.
+    const std::vector<LandmarkPoint> landmarks = estimator.takeFinalLandmarks();
+    std::vector<double> z;
+    for (const LandmarkPoint& p : landmarks) z.push_back(p.p_w.z());
+    std::nth_element(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(z.size() / 2), z.end());
+    const double median = z[z.size() / 2];
+    int far = 0;
+    for (const LandmarkPoint& p : landmarks) far += p.p_w.z() > 8 * median;
+    return far;
+  };
+  EstimatorStats gated, ungated;
+  EXPECT_GE(farLandmarks(0, ungated), 3);
+  EXPECT_EQ(farLandmarks(6, gated), 0);
+  ASSERT_TRUE(gated.initialized) << gated.init_last_failure;
+  EXPECT_EQ(ungated.landmarks_depth_rejected + ungated.landmarks_depth_reset, 0u);
+  EXPECT_GE(gated.landmarks_depth_rejected + gated.landmarks_depth_reset, 3u);
 }
 
 TEST(SlidingWindowEstimator, ForcedMarginalizationKeepsOrDropsTheMeasurementsOfActiveLandmarksByMode) {

@@ -64,6 +64,8 @@ struct EstimatorStats {
   uint64_t landmarks_lost = 0;  ///< fewer than two observations left after outlier removal
   uint64_t tracks_rejected = 0;  ///< whole trajectories rejected by the RMS test (track_outlier_rms_px)
   uint64_t measurements_of_rejected_tracks = 0;  ///< later measurements of rejected trajectories, ignored
+  uint64_t landmarks_depth_rejected = 0;         ///< triangulations outside landmark_depth_range, not created
+  uint64_t landmarks_depth_reset = 0;  ///< left landmark_depth_range in a solve: untriangulated again
   uint64_t scale_anchors = 0;  ///< scale anchors renewed after the initial one left the window
   int max_window_knots = 0;
   int last_prior_rank = 0;

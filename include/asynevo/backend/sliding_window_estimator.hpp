@@ -77,6 +77,10 @@ class SlidingWindowEstimator : public Estimator {
   /// failed for init_relax_after_ms.
   BackendConfig initConfig(int64_t t_ns) const;
   void triangulateTracks();
+  /// Median depth of the triangulated landmarks in the newest knot's camera; 0 with fewer than 10.
+  double medianLandmarkDepth() const;
+  /// Whether a point's depth in the newest knot's camera is within landmark_depth_range of `median`.
+  bool depthPlausible(const double* p_w, double median) const;
   void marginalizeDynamic();
   void renewScaleAnchor();
   /// Marginalizes a landmark that leaves the estimation (rejected, lost) out of the prior, if in it.

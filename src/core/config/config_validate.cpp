@@ -74,6 +74,8 @@ void BackendConfig::validate() const {
   requireRange("backend.min_parallax_deg", min_parallax_deg, 0.0, 90.0);
   requireRange("backend.max_triangulation_px", max_triangulation_px, 1e-3, 1e6);
   requireRange("backend.min_depth", min_depth, 0.0, 1e6);
+  if (landmark_depth_range != 0.0)
+    requireRange("backend.landmark_depth_range", landmark_depth_range, 1.5, 1e6);
   requireRange("backend.window_min_knots", window_min_knots, 3, 10000);
   requireRange("backend.window_max_knots", window_max_knots, window_min_knots, 10000);
   requireRange("backend.marginalization_epsilon", marginalization_epsilon, 0.0, 1.0);

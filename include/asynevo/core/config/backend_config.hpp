@@ -28,12 +28,18 @@ struct BackendConfig {
   double min_parallax_deg = 1.0;       ///< minimum angle between the first and last rays
   double max_triangulation_px = 3.0;   ///< maximum reprojection error of a fresh triangulation
   double min_depth = 0.05;             ///< minimum depth in map units (cheirality)
+  /// A landmark deeper than this factor times the median depth of the window's landmarks, or shallower
+  /// than the median divided by it, is not created, and one that drifts there in a solve goes back to
+  /// an untriangulated trajectory (low-parallax landmarks run away in slow phases). 0 disables.
+  double landmark_depth_range = 6.0;
 
   // --- window ---
   int window_min_knots = 8;     ///< N_min: dynamic marginalization keeps at least this many knots
   int window_max_knots = 20;    ///< N_max: past this the oldest knot is marginalized anyway
   double marginalization_epsilon = 0.8;  ///< t_ε = (1 − ε) t_0 + ε t_N (paper Alg. 1: 0.8)
   double scale_anchor_sigma = 0.1;       ///< relative σ of the renewed scale anchor (0 disables renewal)
+  /// The WNOA prior exerts no force along the monocular scale (WnoaPriorFactor's scale-free mode).
+  bool scale_free_prior = true;
   /// Forced marginalization (N_max), the measurements of still-active landmarks in the marginalized
   /// segments: "fixed_poses" keeps them as projections from their (now fixed) interpolated poses,
   /// "prior" folds them into the Schur complement with the landmarks in the prior's blanket, "drop"
@@ -72,11 +78,15 @@ struct BackendConfig {
     v("min_parallax_deg", min_parallax_deg, "minimum ray angle to triangulate a trajectory [deg]");
     v("max_triangulation_px", max_triangulation_px, "maximum reprojection error of a new landmark [px]");
     v("min_depth", min_depth, "minimum landmark depth (map units)");
+    v("landmark_depth_range", landmark_depth_range,
+      "landmarks beyond this factor of the median landmark depth, either way, are not kept (0 = off)");
     v("window_min_knots", window_min_knots, "N_min: the window keeps at least this many knots");
     v("window_max_knots", window_max_knots, "N_max: beyond this the oldest knot is marginalized anyway");
     v("marginalization_epsilon", marginalization_epsilon, "t_eps = (1 - eps) t_0 + eps t_N (paper: 0.8)");
     v("scale_anchor_sigma", scale_anchor_sigma,
       "relative sigma of the scale anchor renewed in the window once the initial one is marginalized (0 = off)");
+    v("scale_free_prior", scale_free_prior,
+      "the WNOA prior does not pull on the monocular scale (Jacobian projected off the scale direction)");
     v("forced_marginalization", forced_marginalization,
       "measurements of active landmarks at marginalized knots: fixed_poses, prior or drop");
     v("max_iterations", max_iterations, "Levenberg-Marquardt iterations per window solve");
