@@ -206,29 +206,32 @@ void SlidingWindowEstimator::update(int64_t t_ns) {
   stats_.max_window_knots = std::max(stats_.max_window_knots, record.window_knots);
 }
 
-double SlidingWindowEstimator::medianLandmarkDepth() const {
-  if (trajectory_.size() == 0) return 0;
-  const lie::SE3 T_c_w = trajectory_.knots().rbegin()->second.T_w_c().inverse();
+bool SlidingWindowEstimator::DepthGate::admits(const double* p_w) const {
+  const double z = (T_c_w * Eigen::Map<const Eigen::Vector3d>(p_w)).z();
+  return z > min_depth && z < max_depth;
+}
+
+SlidingWindowEstimator::DepthGate SlidingWindowEstimator::depthGate() const {
+  DepthGate gate;
+  const double range = options_.config.landmark_depth_range;
+  if (range <= 0 || trajectory_.size() == 0) return gate;
+  gate.T_c_w = trajectory_.knots().rbegin()->second.T_w_c().inverse();
   std::vector<double> depths;
   for (const auto& [id, track] : tracks_)
     if (track.triangulated)
-      depths.push_back((T_c_w * Eigen::Map<const Eigen::Vector3d>(track.p_w.data())).z());
-  if (depths.size() < 10) return 0;
+      depths.push_back((gate.T_c_w * Eigen::Map<const Eigen::Vector3d>(track.p_w.data())).z());
+  if (depths.size() < 10) return gate;
   std::nth_element(depths.begin(), depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2),
                    depths.end());
-  return depths[depths.size() / 2];
-}
-
-bool SlidingWindowEstimator::depthPlausible(const double* p_w, double median) const {
-  const double range = options_.config.landmark_depth_range;
-  if (range <= 0 || median <= 0) return true;
-  const lie::SE3 T_c_w = trajectory_.knots().rbegin()->second.T_w_c().inverse();
-  const double z = (T_c_w * Eigen::Map<const Eigen::Vector3d>(p_w)).z();
-  return z > median / range && z < median * range;
+  const double median = depths[depths.size() / 2];
+  if (median <= 0) return gate;
+  gate.min_depth = median / range;
+  gate.max_depth = median * range;
+  return gate;
 }
 
 void SlidingWindowEstimator::triangulateTracks() {
-  const double median_depth = medianLandmarkDepth();
+  const DepthGate depth_gate = depthGate();
   const BackendConfig& c = options_.config;
   TriangulationOptions tri;
   tri.min_parallax_deg = c.min_parallax_deg;
@@ -249,7 +252,7 @@ void SlidingWindowEstimator::triangulateTracks() {
       ++stats_.triangulation_failures[static_cast<std::size_t>(result.failure)];
       continue;
     }
-    if (!depthPlausible(result.p_w->data(), median_depth)) {
+    if (!depth_gate.admits(result.p_w->data())) {
       ++stats_.landmarks_depth_rejected;
       continue;
     }
@@ -487,6 +490,12 @@ void SlidingWindowEstimator::releaseFromPrior(double* landmark) {
   ++stats_.landmarks_released;
 }
 
+void SlidingWindowEstimator::untriangulate(FeatureTrack& track) {
+  releaseFromPrior(track.p_w.data());
+  track.triangulated = false;
+  track.observations_at_last_attempt = 0;
+}
+
 void SlidingWindowEstimator::renewScaleAnchor() {
   // The WNOA prior is not scale invariant and keeps pulling a monocular map toward zero scale; the
   // marginalization prior carries the initial anchor only weakly once observations are dropped (N_max).
@@ -537,14 +546,12 @@ void SlidingWindowEstimator::removeOutliers() {
     r.sum_squared += ok ? norm * norm : limit * limit;
     ++r.count;
   }
-  const double median_depth = medianLandmarkDepth();
+  const DepthGate depth_gate = depthGate();
   for (auto& [track, r] : per_track) {
-    if (!depthPlausible(track->p_w.data(), median_depth)) {
+    if (!depth_gate.admits(track->p_w.data())) {
       // A low-parallax landmark that ran away (or collapsed toward the camera): retriangulated later,
       // with the parallax it has gained by then.
-      releaseFromPrior(track->p_w.data());
-      track->triangulated = false;
-      track->observations_at_last_attempt = 0;
+      untriangulate(*track);
       ++stats_.landmarks_depth_reset;
       continue;
     }
@@ -566,9 +573,7 @@ void SlidingWindowEstimator::removeOutliers() {
     int inside = 0;
     for (const auto& o : track->observations) inside += trajectory_.covers(o.t_ns);
     if (inside < 2) {  // not enough left to constrain the landmark: back to an untriangulated trajectory
-      releaseFromPrior(track->p_w.data());
-      track->triangulated = false;
-      track->observations_at_last_attempt = 0;
+      untriangulate(*track);
       ++stats_.landmarks_lost;
     }
   }

@@ -4,6 +4,7 @@
 // Marquardt (Ceres, DENSE_SCHUR, Huber loss), and dynamic marginalization (paper Alg. 1) with the
 // N_max safeguard. docs/backend.md describes each step.
 
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -77,14 +78,20 @@ class SlidingWindowEstimator : public Estimator {
   /// failed for init_relax_after_ms.
   BackendConfig initConfig(int64_t t_ns) const;
   void triangulateTracks();
-  /// Median depth of the triangulated landmarks in the newest knot's camera; 0 with fewer than 10.
-  double medianLandmarkDepth() const;
-  /// Whether a point's depth in the newest knot's camera is within landmark_depth_range of `median`.
-  bool depthPlausible(const double* p_w, double median) const;
+  /// landmark_depth_range: depths in the newest knot's camera within a factor of the window
+  /// landmarks' median depth. Admits everything when off or with fewer than 10 landmarks.
+  struct DepthGate {
+    lie::SE3 T_c_w;
+    double min_depth = 0, max_depth = std::numeric_limits<double>::infinity();
+    bool admits(const double* p_w) const;
+  };
+  DepthGate depthGate() const;
   void marginalizeDynamic();
   void renewScaleAnchor();
   /// Marginalizes a landmark that leaves the estimation (rejected, lost) out of the prior, if in it.
   void releaseFromPrior(double* landmark);
+  /// A landmark back to an untriangulated trajectory (out of the prior, retried on its next measurement).
+  void untriangulate(FeatureTrack& track);
   /// After a solve: rejects whole trajectories failing the RMS test, then single measurements beyond
   /// outlier_px.
   void removeOutliers();

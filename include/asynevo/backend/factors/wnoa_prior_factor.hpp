@@ -7,13 +7,13 @@
 // Scale-free mode (`scale_free`): the translational part of e is homogeneous of degree 1 in the map
 // scale (Log's ρ, v and the Q-term of J_r⁻¹ all scale with it), so the prior's cost grows with the square
 // of a monocular map's scale, which vision does not constrain: every solve pulls the scale down a little
-// (docs/backend.md, "A scale-free WNOA prior"). In this mode the returned Jacobian J is replaced by
-// J' = J − (J u) wᵀ, u the scale direction of the factor's blocks (scaling about T_k's position) and w
-// the part of u orthogonal to the rigid-motion gauge directions, normalized to wᵀu = 1: J'u = 0 (no
-// force along the scale), J'g = J g for a rigid motion g, J'd = J d for every d ⟂ w. The residual is
-// unchanged. As observability-constrained estimators do (Hesch et al., "Observability-constrained
-// vision-aided inertial navigation", 2012), the Jacobian is then deliberately not the derivative of the
-// residual; tests/backend/factors_test.cpp checks both properties.
+// (docs/backend.md, "A scale-free prior and a depth gate"). In this mode the returned Jacobian J is replaced
+// by J' = J − (J u) wᵀ, u the scale direction of the factor's blocks (scaling about T_k's position) and w the
+// part of u orthogonal to the rigid-motion gauge directions, normalized to wᵀu = 1: J'u = 0 (no force along
+// the scale), J'g = J g for a rigid motion g, J'd = J d for every d ⟂ w. The residual is unchanged. As
+// observability-constrained estimators do (Hesch et al., "Observability-constrained vision-aided inertial
+// navigation", 2012), the Jacobian is then deliberately not the derivative of the residual;
+// tests/backend/factors_test.cpp checks both properties.
 
 #include <ceres/sized_cost_function.h>
 
@@ -36,7 +36,6 @@ class WnoaPriorFactor final : public ceres::SizedCostFunction<12, 7, 6, 7, 6> {
 
   double dt() const { return dt_; }
   const gp::Mat12& sqrtInformation() const { return sqrt_information_; }
-  bool scaleFree() const { return scale_free_; }
 
   /// The scale direction u of the four blocks' tangent spaces at these values (24: δT_k, δϖ_k, δT_{k+1},
   /// δϖ_{k+1}; T_k's position is the centre of the scaling, so the pose-k part is zero).
