@@ -14,8 +14,11 @@ call sequence (`backend_feed.txt`); every backend setting is then an exact repla
 prints one line per run (ATE in % of the path, velocity RMSE in % of the mean speed, mean RTE at
 10 % of the path, initialization time), the mean per track set and over all runs, and how many runs
 lose more than 2 % of the path. Everything is cached under DIR (sequences/, tracks/SEQ/SET/,
-replays/NAME/...) and reused when the command that made it is the same; `--set` values use the YAML
-syntax of the configuration files (lists without spaces: backend.q_c=[10,10,10,0.3,0.3,0.3]).
+replays/NAME/...) and reused when the command that made it is the same. The tracks are keyed on the
+configuration without its backend section, and every replay takes its backend section from --config
+before the overrides, so a backend change in config/sim.yaml re-runs the replays, not the tracking.
+`--set` values use the YAML syntax of the configuration files (lists without spaces:
+backend.q_c=[10,10,10,0.3,0.3,0.3]).
 
 Needs Debian's python3-numpy and python3-matplotlib (through benchmark_suite); run with /usr/bin/python3.
 """
@@ -78,6 +81,30 @@ def override_yaml(text, overrides, source):
     return "\n".join(lines)
 
 
+def split_section(text, section):
+    """(before, block, after): the text cut around a top-level section (its header line up to the next
+    top-level key); an absent section is an error."""
+    lines = text.split("\n")
+    start = next((i for i, l in enumerate(lines) if l.startswith(section + ":")), None)
+    if start is None:
+        raise SystemExit("no section %s in the configuration" % section)
+    end = next((i for i in range(start + 1, len(lines)) if re.match(r"^\w+:", lines[i])), len(lines))
+    return "\n".join(lines[:start]), "\n".join(lines[start:end]), "\n".join(lines[end:])
+
+
+def without_backend(config):
+    """The configuration text the recorded tracks depend on: everything but the backend section (the
+    frontend never waits for or reads from the backend, so its tracks do not depend on it)."""
+    before, _, after = split_section(config, "backend")
+    return before + "\n" + after
+
+
+def with_backend_of(config, source):
+    """`config` with its backend section replaced by the one of `source`."""
+    before, _, after = split_section(config, "backend")
+    return "\n".join(part for part in (before, split_section(source, "backend")[1].rstrip("\n"), after) if part)
+
+
 def cached(stamp_path, command):
     stamp = read_json(stamp_path)
     return stamp is not None and stamp.get("command") == command and stamp.get("status") == "ok"
@@ -108,7 +135,7 @@ def record(args, seq, seq_dir, track_set, frontend_overrides):
     config_path = run_dir + ".config.yaml"
     config = override_yaml(base, frontend_overrides, args.config)
     cmd = [args.asynevo, "run", "--dataset", seq_dir, "--config", config_path, "--out", run_dir]
-    if not cached(stamp, cmd + [config]):
+    if not cached(stamp, cmd + [without_backend(config)]):
         log("tracking %s with %s ..." % (seq, track_set))
         os.makedirs(os.path.dirname(run_dir), exist_ok=True)
         with open(config_path, "w") as f:
@@ -116,7 +143,7 @@ def record(args, seq, seq_dir, track_set, frontend_overrides):
         code, _, _ = run_logged(cmd, run_dir + ".log")
         if code != 0:
             raise SystemExit("asynevo run failed on %s/%s (exit %s); see %s.log" % (seq, track_set, code, run_dir))
-        write_json(stamp, dict(command=cmd + [config], status="ok"))
+        write_json(stamp, dict(command=cmd + [without_backend(config)], status="ok"))
     return run_dir
 
 
@@ -125,7 +152,9 @@ def replay(args, seq, seq_dir, track_set, run_dir):
     out = os.path.join(args.out, "replays", args.name, seq, track_set)
     stamp = out + ".json"
     with open(os.path.join(run_dir, "config.yaml")) as f:
-        config = override_yaml(f.read(), args.set, run_dir + "/config.yaml")
+        recorded = f.read()
+    with open(args.config) as f:
+        config = override_yaml(with_backend_of(recorded, f.read()), args.set, run_dir + "/config.yaml")
     est = os.path.join(out, "est.txt")
     cmd = [os.path.join(args.build, "bin", "bench_replay_tracks"), out, seq_dir, est]
     if not cached(stamp, cmd + [config]):

@@ -29,6 +29,16 @@ def main():
     msg = raises_exit(lambda: rs.override_yaml(text, ["q_c=1"], "cfg.yaml"))
     check(msg is not None and "section.key=value" in msg, "a malformed override is an error: %s" % msg)
     check(rs.override_yaml(text, [], "cfg") == text, "no override leaves the text as it was")
+    recorded = "# run\nsensor:\n  width: 240\nbackend:\n  q_c: [1]\n  knot_dt_ms: 50\nframes:\n  n: 2\n"
+    base = "frontend:\n  min_dt_ms: 5\nbackend:\n  # new\n  q_c: [9]\n"
+    merged = rs.with_backend_of(recorded, base)
+    check(merged == "# run\nsensor:\n  width: 240\nbackend:\n  # new\n  q_c: [9]\nframes:\n  n: 2\n",
+          "the backend section is taken from the base, the rest from the recording: %r" % merged)
+    check(rs.without_backend(recorded) == rs.without_backend(merged), "the tracks' key ignores the backend section")
+    check(rs.without_backend(recorded) != rs.without_backend(recorded.replace("240", "346")),
+          "the tracks' key follows every other section")
+    msg = raises_exit(lambda: rs.with_backend_of("sensor:\n  width: 1\n", base))
+    check(msg is not None and "no section backend" in msg, "a configuration without a backend section is an error")
     check(rs.mean([1.0, None, 3.0]) == 2.0, "the mean skips missing values")
     check(rs.mean([None]) != rs.mean([None]), "the mean of nothing is NaN")
     check(set(rs.TRACK_SETS) >= {"default"} and len(rs.SEQUENCES) == 8, "eight sequences, a default track set")
