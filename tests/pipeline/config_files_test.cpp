@@ -53,5 +53,11 @@ TEST(ConfigFiles, EachLoadsAndListsEveryParameter) {
   }
 }
 
+// docs/pipeline.md: without --config the defaults in code are those of config/sim.yaml.
+TEST(ConfigFiles, SimFileHoldsTheDefaultsInCode) {
+  const std::string path = std::string(ASYNEVO_SOURCE_DIR) + "/config/sim.yaml";
+  EXPECT_EQ(configToYaml(loadConfig(path)), configToYaml(Config()));
+}
+
 }  // namespace
 }  // namespace asynevo
