@@ -130,12 +130,11 @@ def record(args, seq, seq_dir, track_set, frontend_overrides):
     """`asynevo run` with the frontend overrides: the tracks and the backend feed to replay."""
     run_dir = os.path.join(args.out, "tracks", seq, track_set)
     stamp = run_dir + ".json"
-    with open(args.config) as f:
-        base = f.read()
     config_path = run_dir + ".config.yaml"
-    config = override_yaml(base, frontend_overrides, args.config)
+    config = override_yaml(args.config_text, frontend_overrides, args.config)
     cmd = [args.asynevo, "run", "--dataset", seq_dir, "--config", config_path, "--out", run_dir]
-    if not cached(stamp, cmd + [without_backend(config)]):
+    key = cmd + [without_backend(config)]
+    if not cached(stamp, key):
         log("tracking %s with %s ..." % (seq, track_set))
         os.makedirs(os.path.dirname(run_dir), exist_ok=True)
         with open(config_path, "w") as f:
@@ -143,7 +142,7 @@ def record(args, seq, seq_dir, track_set, frontend_overrides):
         code, _, _ = run_logged(cmd, run_dir + ".log")
         if code != 0:
             raise SystemExit("asynevo run failed on %s/%s (exit %s); see %s.log" % (seq, track_set, code, run_dir))
-        write_json(stamp, dict(command=cmd + [without_backend(config)], status="ok"))
+        write_json(stamp, dict(command=key, status="ok"))
     return run_dir
 
 
@@ -152,9 +151,7 @@ def replay(args, seq, seq_dir, track_set, run_dir):
     out = os.path.join(args.out, "replays", args.name, seq, track_set)
     stamp = out + ".json"
     with open(os.path.join(run_dir, "config.yaml")) as f:
-        recorded = f.read()
-    with open(args.config) as f:
-        config = override_yaml(with_backend_of(recorded, f.read()), args.set, run_dir + "/config.yaml")
+        config = override_yaml(with_backend_of(f.read(), args.config_text), args.set, run_dir + "/config.yaml")
     est = os.path.join(out, "est.txt")
     cmd = [os.path.join(args.build, "bin", "bench_replay_tracks"), out, seq_dir, est]
     if not cached(stamp, cmd + [config]):
@@ -234,6 +231,8 @@ def main():
             raise SystemExit("%s: not found or not executable (build the project first)" % tool)
     if not os.path.isfile(args.config):
         raise SystemExit("%s: no such configuration file" % args.config)
+    with open(args.config) as f:
+        args.config_text = f.read()
     names = [s for s in args.sequences.split(",") if s]
     unknown = [s for s in names if s not in SEQUENCES]
     if unknown:

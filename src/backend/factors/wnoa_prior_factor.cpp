@@ -19,23 +19,22 @@ WnoaPriorFactor::WnoaPriorFactor(int64_t t_k_ns, int64_t t_k1_ns, const gp::Mat6
                                  bool scale_free)
     : WnoaPriorFactor(durationSeconds(t_k_ns, t_k1_ns), Q_c, series_order, scale_free) {}
 
-Eigen::Matrix<double, 24, 1> WnoaPriorFactor::scaleDirection(double const* const* parameters) {
+Eigen::Matrix<double, 24, 1> WnoaPriorFactor::scaleDirection(const lie::SE3& T_k, const gp::Vec6& w_k,
+                                                             const lie::SE3& T_k1, const gp::Vec6& w_k1) {
   // Scaling the map by (1 + ε) about T_k's position moves T_{k+1} to T_{k+1}·Exp(ε [R_{k+1}ᵀ(t_{k+1} − t_k);
   // 0]) and multiplies the linear velocities by (1 + ε).
-  const lie::SE3 T_k = poseFromBlock(parameters[0]);
-  const lie::SE3 T_k1 = poseFromBlock(parameters[2]);
   Eigen::Matrix<double, 24, 1> u = Eigen::Matrix<double, 24, 1>::Zero();
-  u.segment<3>(6) = Eigen::Map<const Eigen::Vector3d>(parameters[1]);
+  u.segment<3>(6) = w_k.head<3>();
   u.segment<3>(12) = T_k1.rotation().transpose() * (T_k1.translation() - T_k.translation());
-  u.segment<3>(18) = Eigen::Map<const Eigen::Vector3d>(parameters[3]);
+  u.segment<3>(18) = w_k1.head<3>();
   return u;
 }
 
-Eigen::Matrix<double, 24, 6> WnoaPriorFactor::gaugeDirections(double const* const* parameters) {
+Eigen::Matrix<double, 24, 6> WnoaPriorFactor::gaugeDirections(const lie::SE3& T_k, const lie::SE3& T_k1) {
   // Exp(δ)·T = T·Exp(Ad(T⁻¹) δ): in right-perturbation coordinates a world motion δ is Ad(T⁻¹) δ.
   Eigen::Matrix<double, 24, 6> G = Eigen::Matrix<double, 24, 6>::Zero();
-  G.block<6, 6>(0, 0) = lie::se3::adjointInverse(poseFromBlock(parameters[0]));
-  G.block<6, 6>(12, 0) = lie::se3::adjointInverse(poseFromBlock(parameters[2]));
+  G.block<6, 6>(0, 0) = lie::se3::adjointInverse(T_k);
+  G.block<6, 6>(12, 0) = lie::se3::adjointInverse(T_k1);
   return G;
 }
 
@@ -56,8 +55,8 @@ bool WnoaPriorFactor::Evaluate(double const* const* parameters, double* residual
   Jt << sqrt_information_ * J.d_e_d_pose_k, sqrt_information_ * J.d_e_d_vel_k,
       sqrt_information_ * J.d_e_d_pose_k1, sqrt_information_ * J.d_e_d_vel_k1;
   if (scale_free_) {
-    const Eigen::Matrix<double, 24, 1> u = scaleDirection(parameters);
-    const Eigen::Matrix<double, 24, 6> G = gaugeDirections(parameters);
+    const Eigen::Matrix<double, 24, 1> u = scaleDirection(T_k, w_k, T_k1, w_k1);
+    const Eigen::Matrix<double, 24, 6> G = gaugeDirections(T_k, T_k1);
     const Eigen::Matrix<double, 24, 1> w = u - G * (G.transpose() * G).ldlt().solve(G.transpose() * u);
     const double wu = w.dot(u);
     // wu = |w|² is 0 only for a map without translation (u in the gauge span): nothing to project then.

@@ -39,9 +39,10 @@ class WnoaPriorFactor final : public ceres::SizedCostFunction<12, 7, 6, 7, 6> {
 
   /// The scale direction u of the four blocks' tangent spaces at these values (24: δT_k, δϖ_k, δT_{k+1},
   /// δϖ_{k+1}; T_k's position is the centre of the scaling, so the pose-k part is zero).
-  static Eigen::Matrix<double, 24, 1> scaleDirection(double const* const* parameters);
+  static Eigen::Matrix<double, 24, 1> scaleDirection(const lie::SE3& T_k, const gp::Vec6& w_k,
+                                                     const lie::SE3& T_k1, const gp::Vec6& w_k1);
   /// The rigid-motion gauge directions (24×6: Exp(δ)·T applied to both poses, velocities unchanged).
-  static Eigen::Matrix<double, 24, 6> gaugeDirections(double const* const* parameters);
+  static Eigen::Matrix<double, 24, 6> gaugeDirections(const lie::SE3& T_k, const lie::SE3& T_k1);
 
  private:
   double dt_;
