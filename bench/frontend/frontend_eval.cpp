@@ -83,6 +83,28 @@ void printAccuracy(const std::vector<TrackMeasurement>& measurements, const sim:
                entry.second.first, entry.first[entry.first.size() / 2],
                entry.first[entry.first.size() * 9 / 10], entry.second.second);
   }
+  // Median error by the measurement's age (time since the track's first measurement), rigid anchors only:
+  // how the error grows over a track's life (docs/frontend.md, "Why the error grows with age").
+  constexpr double kAgeEdges[] = {0.0, 0.01, 0.025, 0.05, 0.1, 0.2, 0.5, 1e9};
+  constexpr int kAgeBins = static_cast<int>(std::size(kAgeEdges)) - 1;
+  std::vector<std::vector<double>> by_age(kAgeBins);
+  for (const auto& t : r.tracks) {
+    if (!t.anchored || t.depth_edge) continue;
+    for (std::size_t k = 0; k < t.errors_px.size(); ++k) {
+      int bin = 0;
+      while (bin + 1 < kAgeBins && t.ages_s[k] >= kAgeEdges[bin + 1]) ++bin;
+      by_age[static_cast<std::size_t>(bin)].push_back(t.errors_px[k]);
+    }
+  }
+  std::string ages;
+  for (int bin = 0; bin < kAgeBins; ++bin) {
+    auto& v = by_age[static_cast<std::size_t>(bin)];
+    if (v.empty()) continue;
+    std::sort(v.begin(), v.end());
+    ages += fmt::format("  {}{:g} ms: {:.3f} ({})", bin + 1 == kAgeBins ? ">= " : "< ",
+                        1e3 * kAgeEdges[bin + 1 == kAgeBins ? bin : bin + 1], v[v.size() / 2], v.size());
+  }
+  fmt::print("  error by age    median px (measurements), rigid anchors:{}\n", ages);
   if (worst <= 0) return;
   std::vector<const sim::TrackAccuracy*> order;
   for (const auto& t : r.tracks)

@@ -211,6 +211,7 @@ FeatureAccuracy evaluateFeatureTracks(const std::vector<TrackMeasurement>& measu
         const double e = p.valid ? (p.pixel - Eigen::Vector2d(ms[i]->x, ms[i]->y)).norm()
                                  : std::numeric_limits<double>::infinity();
         t.errors_px.push_back(e);
+        t.ages_s.push_back(1e-9 * double(ms[i]->t_ns - t.first_ns));
         if (p.valid) {
           // Direction of the image motion from the projections 1 ms either side.
           constexpr int64_t kHalfStep = 1'000'000;

@@ -142,6 +142,9 @@ TEST(FeatureAccuracy, CountsErrorsAndLongLivedBadTracks) {
   EXPECT_EQ(r.all.tracks, 3);
   EXPECT_EQ(r.all.measurements, 30u);
   EXPECT_EQ(r.all.bad_tracks, 1);
+  ASSERT_EQ(r.tracks[1].ages_s.size(), r.tracks[1].errors_px.size());  // one age per error
+  for (std::size_t k = 0; k < r.tracks[1].ages_s.size(); ++k)
+    EXPECT_NEAR(r.tracks[1].ages_s[k], 0.005 * double(k + 1), 1e-12);  // measurements 1..10 at 5 ms steps
   EXPECT_EQ(r.tracks[1].first_bad_ns, 20'000'000);
   EXPECT_EQ(r.tracks[1].bad_survival_ns, 30'000'000);
   EXPECT_EQ(r.tracks[2].bad_survival_ns, 5'000'000);

@@ -113,6 +113,7 @@ struct TrackAccuracy {
   int64_t first_bad_ns = -1;      ///< time of the first error above bad_error_px, or -1
   int64_t bad_survival_ns = 0;    ///< last_ns - first_bad_ns (0 when never bad)
   std::vector<double> errors_px;  ///< one per measurement after the first
+  std::vector<double> ages_s;     ///< age of each entry of errors_px: its time since the first measurement
   /// Signed error component along the ground-truth image motion (measured − true, projected on the
   /// direction of motion at that time; > 0 ahead, < 0 lagging), one per measurement after the first
   /// whose point moves by more than 1 px/s and stays in view.
