@@ -63,28 +63,9 @@ void evaluateSynthetic(const Config& config) {
              Q::quantile(r.lifetimes_s, 0.9));
 }
 
-void printAccuracy(const std::vector<TrackMeasurement>& measurements, const sim::FeatureGroundTruth& gt,
-                   int worst) {
-  const sim::FeatureAccuracy r = sim::evaluateFeatureTracks(measurements, gt);
-  fmt::print("{}", r.summary());
-  // Per texture of the anchor planes: median error, bad tracks.
-  std::map<std::string, std::pair<std::vector<double>, std::pair<int, int>>> per_texture;
-  for (const auto& t : r.tracks) {
-    if (!t.anchored || t.errors_px.empty()) continue;
-    const auto& plane = gt.scene().planes[static_cast<std::size_t>(t.plane)];
-    auto& entry = per_texture[plane.texture ? plane.texture->description().substr(0, 24) : plane.name];
-    entry.first.insert(entry.first.end(), t.errors_px.begin(), t.errors_px.end());
-    ++entry.second.first;
-    entry.second.second += t.bad_survival_ns > 20'000'000 ? 1 : 0;
-  }
-  for (auto& [name, entry] : per_texture) {
-    std::sort(entry.first.begin(), entry.first.end());
-    fmt::print("  on {:<26} {:4d} tracks, median {:.3f} px, p90 {:.3f}, bad tracks {}\n", name,
-               entry.second.first, entry.first[entry.first.size() / 2],
-               entry.first[entry.first.size() * 9 / 10], entry.second.second);
-  }
-  // Median error by the measurement's age (time since the track's first measurement), rigid anchors only:
-  // how the error grows over a track's life (docs/frontend.md, "Why the error grows with age").
+// Median error by the measurement's age (time since the track's first measurement), rigid anchors only:
+// how the error grows over a track's life (docs/frontend.md, "Why the error grows with age").
+void printErrorByAge(const sim::FeatureAccuracy& r) {
   constexpr double kAgeEdges[] = {0.0, 0.01, 0.025, 0.05, 0.1, 0.2, 0.5, 1e9};
   constexpr int kAgeBins = static_cast<int>(std::size(kAgeEdges)) - 1;
   std::vector<std::vector<double>> by_age(kAgeBins);
@@ -105,6 +86,29 @@ void printAccuracy(const std::vector<TrackMeasurement>& measurements, const sim:
                         1e3 * kAgeEdges[bin + 1 == kAgeBins ? bin : bin + 1], v[v.size() / 2], v.size());
   }
   fmt::print("  error by age    median px (measurements), rigid anchors:{}\n", ages);
+}
+
+void printAccuracy(const std::vector<TrackMeasurement>& measurements, const sim::FeatureGroundTruth& gt,
+                   int worst) {
+  const sim::FeatureAccuracy r = sim::evaluateFeatureTracks(measurements, gt);
+  fmt::print("{}", r.summary());
+  // Per texture of the anchor planes: median error, bad tracks.
+  std::map<std::string, std::pair<std::vector<double>, std::pair<int, int>>> per_texture;
+  for (const auto& t : r.tracks) {
+    if (!t.anchored || t.errors_px.empty()) continue;
+    const auto& plane = gt.scene().planes[static_cast<std::size_t>(t.plane)];
+    auto& entry = per_texture[plane.texture ? plane.texture->description().substr(0, 24) : plane.name];
+    entry.first.insert(entry.first.end(), t.errors_px.begin(), t.errors_px.end());
+    ++entry.second.first;
+    entry.second.second += t.bad_survival_ns > 20'000'000 ? 1 : 0;
+  }
+  for (auto& [name, entry] : per_texture) {
+    std::sort(entry.first.begin(), entry.first.end());
+    fmt::print("  on {:<26} {:4d} tracks, median {:.3f} px, p90 {:.3f}, bad tracks {}\n", name,
+               entry.second.first, entry.first[entry.first.size() / 2],
+               entry.first[entry.first.size() * 9 / 10], entry.second.second);
+  }
+  printErrorByAge(r);
   if (worst <= 0) return;
   std::vector<const sim::TrackAccuracy*> order;
   for (const auto& t : r.tracks)
