@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
@@ -82,8 +83,9 @@ void printErrorByAge(const sim::FeatureAccuracy& r) {
     auto& v = by_age[static_cast<std::size_t>(bin)];
     if (v.empty()) continue;
     std::sort(v.begin(), v.end());
-    ages += fmt::format("  {}{:g} ms: {:.3f} ({})", bin + 1 == kAgeBins ? ">= " : "< ",
-                        1e3 * kAgeEdges[bin + 1 == kAgeBins ? bin : bin + 1], v[v.size() / 2], v.size());
+    const bool last = bin + 1 == kAgeBins;  // labelled by its lower edge, the others by their upper one
+    ages += fmt::format("  {} {:g} ms: {:.3f} ({})", last ? ">=" : "<", 1e3 * kAgeEdges[last ? bin : bin + 1],
+                        v[v.size() / 2], v.size());
   }
   fmt::print("  error by age    median px (measurements), rigid anchors:{}\n", ages);
 }
