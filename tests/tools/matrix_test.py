@@ -1,0 +1,217 @@
+#!/usr/bin/python3
+"""Tests of the evaluation matrix's tools (tools/matrix.py, matrix_run.py, matrix_report.py) and of the
+Snakemake workflow (workflow/Snakefile).
+
+  matrix_test.py units                                  checks on synthetic data (~2 s, no binary)
+  matrix_test.py smoke --asynevo BIN --work DIR         dry run of the whole matrix, then one 2 s
+                                                        sequence through simulate -> run -> report
+"""
+
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from tool_checks import REPO_DIR, check, exit_code  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+import matrix as matrix_lib  # noqa: E402
+import matrix_report  # noqa: E402
+import matrix_run  # noqa: E402
+
+GOOD_CELL = "{name: c1, sensor: davis240c, noise: low, scene: boxes, motion: m6, variants: [{seed: 1}, {seed: 2, start: 3}]}"
+HEADER = """duration_s: 10
+sensors: [davis240c, davis346]
+noise_levels: [low, high]
+scenes: {boxes: boxes, shapes: planar}
+motions:
+  m6: {preset: 6dof, kind: preset}
+  mocap: {file: tests/data/ecd/poster_6dof_gt/groundtruth.txt, kind: mocap}
+cells:
+"""
+
+
+def write_matrix(folder, cells, header=HEADER):
+    path = os.path.join(folder, "m.yaml")
+    with open(path, "w") as f:
+        f.write(header + "".join("  - %s\n" % c for c in cells))
+    return path
+
+
+def load_error(folder, cells, header=HEADER):
+    try:
+        matrix_lib.load(write_matrix(folder, cells, header))
+    except matrix_lib.MatrixError as e:
+        return str(e)
+    return None
+
+
+def units():
+    tmp = tempfile.mkdtemp(prefix="matrix_units_")
+    # the repository's matrix: at least 36 sequences, both halves the same cells
+    m = matrix_lib.load()
+    tune, val = matrix_lib.select(m, "tuning"), matrix_lib.select(m, "validation")
+    check(len(m["sequences"]) >= 36, "workflow/matrix.yaml has >= 36 sequences (%d)" % len(m["sequences"]))
+    check([s["cell"] for s in tune] == [s["cell"] for s in val], "tuning and validation halves hold the same cells")
+    check(all(s["name"].endswith("-tune") for s in tune) and all(s["name"].endswith("-val") for s in val),
+          "sequence names say their half")  # fmt: skip
+    for key, want in (("sensor", 4), ("noise", 3), ("scene_kind", 5)):
+        check(len({s[key] for s in val}) >= want, "validation half covers %d %s values" % (want, key))
+    check({"mocap", "fast", "slow-start", "preset"} <= {s["motion_kind"] for s in val},
+          "validation half covers mocap, fast, slow-start and preset motions")  # fmt: skip
+
+    # expansion and simulate arguments
+    good_dir = os.path.join(tmp, "good")
+    os.makedirs(good_dir)
+    ok = matrix_lib.load(write_matrix(good_dir, [GOOD_CELL]))
+    s = ok["sequences"]
+    check([x["name"] for x in s] == ["c1-tune", "c1-val"] and [x["half"] for x in s] == ["tuning", "validation"],
+          "a cell expands to CELL-tune and CELL-val")  # fmt: skip
+    args = matrix_lib.simulate_args(s[1])
+    check(args[args.index("--seed") + 1] == "2" and args[args.index("--start") + 1] == "3",
+          "the validation variant's seed and start reach simulate")  # fmt: skip
+    check("--binary" in args and "--sensor" in args and "--noise-level" in args, "simulate gets sensor, noise, binary")
+
+    # bad input names the cell and what is wrong, before anything runs
+    bad = [
+        (GOOD_CELL.replace("boxes", "castle", 1), "cell c1", "unknown scene 'castle'"),
+        (GOOD_CELL.replace("davis240c", "kinect"), "cell c1", "unknown sensor 'kinect'"),
+        (GOOD_CELL.replace("noise: low", "noise: loud"), "cell c1", "unknown noise level 'loud'"),
+        (GOOD_CELL.replace("motion: m6", "motion: m7"), "cell c1", "unknown motion 'm7'"),
+        (GOOD_CELL.replace("[{seed: 1}, ", "["), "cell c1", "exactly two"),
+        (GOOD_CELL.replace("{seed: 1}", "{seed: -1}"), "tuning variant", "'seed'"),
+        (GOOD_CELL.replace("start: 3", "start: -3"), "validation variant", "'start' must be >= 0"),
+        (GOOD_CELL.replace("variants", "variant"), "cell c1", "unknown key(s) variant"),
+    ]
+    for cell_text, where, what in bad:
+        err = load_error(tmp, [cell_text])
+        check(err is not None and where in err and what in err, "bad cell rejected: %s (%s)" % (what, err))
+    err = load_error(tmp, [GOOD_CELL, GOOD_CELL])
+    check(err is not None and "used twice" in err, "a repeated cell name is rejected")
+    err = load_error(tmp, [GOOD_CELL], HEADER.replace("tests/data/ecd/poster_6dof_gt", "tests/data/nowhere"))
+    check(err is not None and "motion mocap" in err and "no such file" in err, "a missing motion file is rejected")
+    err = load_error(tmp, [GOOD_CELL], HEADER.replace("boxes: boxes", "boxes: cubist"))
+    check(err is not None and "scene boxes" in err, "an unknown scene kind is rejected")
+
+    # coverage and motion onset
+    t = np.arange(1.0, 10.0001, 0.05)
+    check(abs(matrix_run.coverage(t, 0.0, 10.0) - 0.9) < 1e-9, "coverage of an estimate from 1 s to 10 s is 90 %")
+    t_gap = np.concatenate([np.arange(0.0, 4.0001, 0.05), np.arange(6.0, 10.0001, 0.05)])
+    check(abs(matrix_run.coverage(t_gap, 0.0, 10.0) - 0.8) < 1e-9, "a 2 s hole is not covered")
+    check(matrix_run.coverage([5.0], 0.0, 10.0) == 0.0, "a lone pose covers nothing")
+    gt_t = np.arange(0.0, 3.0, 0.001)
+    gt = np.zeros((len(gt_t), 8))
+    gt[:, 0] = gt_t
+    gt[:, 7] = 1.0
+    gt[:, 1] = np.where(gt_t > 1.5, (gt_t - 1.5) * 0.1, 0.0)  # still, then 0.1 m/s from 1.5 s
+    onset = matrix_run.motion_onset(gt)
+    check(onset is not None and abs(onset - 1.601) < 0.002, "motion onset is when the camera is 1 cm away (%s)" % onset)
+    check(matrix_run.motion_onset(gt[:1000]) is None, "a still camera has no onset")
+
+    # the report: failures are the worst value and stay in the tables
+    runs = os.path.join(tmp, "runs")
+    for name, score in (
+        ("c1-tune", dict(status="ok", ate_pct=1.0, rte10_pct=5.0, vel_pct=20.0, init_s=0.5, coverage=0.9, init_attempts=3)),
+        ("c1-val", dict(status="failed", message="initialization never succeeded after 40 attempt(s)", coverage=0.0,
+                        init_attempts=40)),
+    ):  # fmt: skip
+        os.makedirs(os.path.join(runs, name))
+        with open(os.path.join(runs, name, "score.json"), "w") as f:
+            json.dump(score, f)
+    rows = matrix_report.rows_of(ok, "all", runs)
+    summary = matrix_report.summarize(rows)
+    check(summary["failed"] == 1 and summary["ate_pct"]["worst"] == float("inf"), "a failed run is the worst ATE")
+    check(summary["coverage_pct"]["worst"] == 0.0, "a failed run's coverage is 0")
+    md = os.path.join(tmp, "report", "report.md")
+    docs = os.path.join(tmp, "results.md")
+    with open(docs, "w") as f:
+        f.write("before\n%s\nold\n%s\nafter\n" % (matrix_report.BEGIN_MARKER, matrix_report.END_MARKER))
+    code = subprocess.run([sys.executable, os.path.join(REPO_DIR, "tools", "matrix_report.py"), "--matrix",
+                           ok["path"], "--runs", runs, "--name", "t", "--out", md, "--docs", docs, "--docs-images",
+                           os.path.join(tmp, "img")]).returncode  # fmt: skip
+    text = open(md).read() if os.path.exists(md) else ""
+    check(code == 0 and "initialization never succeeded" in text and "| c1-val |" in text,
+          "the report lists the failed run with its message")  # fmt: skip
+    check(os.path.exists(os.path.join(tmp, "report", "distributions.png")), "the report draws the distributions")
+    doc = open(docs).read()
+    check("old" not in doc and "before" in doc and "after" in doc and "| c1-tune |" in doc,
+          "--docs replaces only the matrix section")  # fmt: skip
+    shutil.rmtree(tmp)
+
+
+SMOKE_MATRIX = """duration_s: 2
+sensors: [davis240c]
+noise_levels: [low]
+scenes: {boxes: boxes}
+motions:
+  m6: {preset: 6dof, kind: preset}
+cells:
+  - {name: smoke, sensor: davis240c, noise: low, scene: boxes, motion: m6, variants: [{seed: 1}, {seed: 2}]}
+"""
+
+
+def smoke(asynevo, work):
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    snakemake = shutil.which("snakemake")
+    check(snakemake is not None, "snakemake is installed (Debian package snakemake)")
+    if snakemake is None:
+        return
+    base = [snakemake, "-s", os.path.join(REPO_DIR, "workflow", "Snakefile"), "--cores", "2", "--quiet"]
+    # dry run of the repository's matrix: every job planned, names checked against the binary
+    dry = subprocess.run(base + ["-n", "--config", "asynevo=" + asynevo, "out=" + os.path.join(work, "dry")],
+                         capture_output=True, text=True)  # fmt: skip
+    n = len(matrix_lib.load()["sequences"])
+    check(dry.returncode == 0, "dry run of workflow/matrix.yaml succeeds (%s)" % dry.stderr.strip()[-300:])
+    check("simulate" in dry.stdout and "run" in dry.stdout and "report" in dry.stdout,
+          "the dry run plans simulate, run and report jobs")  # fmt: skip
+    check(str(n) in dry.stdout, "the dry run plans %d runs" % n)
+    # a matrix naming an unknown scene fails before anything runs, naming the cell
+    bad = os.path.join(work, "bad.yaml")
+    with open(bad, "w") as f:
+        f.write(SMOKE_MATRIX.replace("boxes", "castle"))
+    r = subprocess.run(base + ["-n", "--config", "asynevo=" + asynevo, "matrix=" + bad, "out=" + os.path.join(work, "bad")],
+                       capture_output=True, text=True)  # fmt: skip
+    check(r.returncode != 0 and "castle" in (r.stdout + r.stderr), "an unknown scene stops the workflow, named")
+    check(not os.path.exists(os.path.join(work, "bad", "sequences")), "nothing ran for the bad matrix")
+    # one 2 s sequence (the validation half of the smoke matrix) through the whole workflow
+    path = os.path.join(work, "smoke.yaml")
+    with open(path, "w") as f:
+        f.write(SMOKE_MATRIX)
+    out = os.path.join(work, "out")
+    r = subprocess.run(base + ["--config", "asynevo=" + asynevo, "matrix=" + path, "out=" + out, "half=validation"],
+                       capture_output=True, text=True)  # fmt: skip
+    check(r.returncode == 0, "the smoke workflow runs (%s)" % r.stderr.strip()[-500:])
+    score = matrix_report.read_json(os.path.join(out, "runs", "baseline", "smoke-val", "score.json"))
+    check(score is not None and score.get("status") in ("ok", "failed"), "the run left its score (%s)" % (score or {}).get("status"))
+    if score and score.get("status") == "ok":
+        check(score.get("ate_pct") is not None and score["ate_pct"] < 20, "the 2 s run has an ATE (%s %%)" % score.get("ate_pct"))
+    report = os.path.join(out, "report", "baseline", "report.md")
+    check(os.path.exists(report) and "| smoke-val |" in open(report).read(), "the report lists the sequence")
+    check(not os.path.exists(os.path.join(out, "sequences", "smoke-tune")), "half=validation simulates only that half")
+    # a second invocation has nothing to do (file-based rules)
+    again = subprocess.run(base + ["-n", "--config", "asynevo=" + asynevo, "matrix=" + path, "out=" + out,
+                                   "half=validation"], capture_output=True, text=True)  # fmt: skip
+    check(again.returncode == 0 and "Nothing to be done" in (again.stdout + again.stderr), "a finished workflow is not rerun")
+
+
+def main():
+    p = argparse.ArgumentParser()
+    p.add_argument("mode", choices=["units", "smoke"])
+    p.add_argument("--asynevo")
+    p.add_argument("--work")
+    args = p.parse_args()
+    if args.mode == "units":
+        units()
+    else:
+        smoke(os.path.abspath(args.asynevo), os.path.abspath(args.work))
+    return exit_code()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,181 @@
+#!/usr/bin/python3
+"""One cell of the evaluation matrix: `asynevo run` on a simulated sequence, `asynevo eval` of the
+estimate, and the sequence's score (docs/evaluation_matrix.md, "What is measured").
+
+  matrix_run.py --asynevo BIN --dataset SEQ_DIR --config FILE --run-dir DIR --score FILE
+                [--sequence NAME] [--timeout S]
+
+Writes FILE (JSON) in every case: status "ok", or "failed" / "timeout" with the message that says
+why. A failed run is a result, not an error of this script, which exits 0 unless it could not write
+its score. Needs Debian's python3-numpy.
+"""
+
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+COVERAGE_MAX_GAP_S = 0.25  # estimate poses further apart than this do not cover the time between them
+ONSET_TRANSLATION_M = 0.01  # motion onset: the camera is this far from its first pose ...
+ONSET_ROTATION_DEG = 1.0  # ... or turned this much
+
+
+def read_json(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None
+
+
+def load_poses(path):
+    """(N, 8) array of a TUM file (t tx ty tz qx qy qz qw), empty when missing or empty."""
+    if not os.path.isfile(path):
+        return np.zeros((0, 8))
+    rows = []
+    with open(path) as f:
+        for line in f:
+            line = line.strip()
+            if line and not line.startswith("#"):
+                rows.append([float(v) for v in line.split()[:8]])
+    return np.array(rows).reshape(-1, 8)
+
+
+def coverage(est_t, begin_s, end_s, max_gap_s=COVERAGE_MAX_GAP_S):
+    """Share of [begin_s, end_s] covered by the estimate: the union of the intervals between
+    consecutive estimate times closer than max_gap_s (a lone pose covers nothing)."""
+    span = end_s - begin_s
+    if span <= 0 or len(est_t) < 2:
+        return 0.0
+    t = np.clip(np.sort(np.asarray(est_t, dtype=float)), begin_s, end_s)
+    gaps = np.diff(t)
+    return float(np.sum(gaps[gaps <= max_gap_s]) / span)
+
+
+def motion_onset(gt):
+    """Time of the first ground-truth pose ONSET_TRANSLATION_M or ONSET_ROTATION_DEG away from the
+    first pose (the start of camera motion); None when the camera never moves that much."""
+    if len(gt) == 0:
+        return None
+    d = np.linalg.norm(gt[:, 1:4] - gt[0, 1:4], axis=1)
+    q0 = gt[0, 4:8] / np.linalg.norm(gt[0, 4:8])
+    q = gt[:, 4:8] / np.linalg.norm(gt[:, 4:8], axis=1, keepdims=True)
+    angle_deg = np.degrees(2.0 * np.arccos(np.clip(np.abs(q @ q0), 0.0, 1.0)))
+    moved = np.nonzero((d > ONSET_TRANSLATION_M) | (angle_deg > ONSET_ROTATION_DEG))[0]
+    return float(gt[moved[0], 0]) if len(moved) else None
+
+
+def last_message(text, limit=300):
+    """The line of a failed command's output that says why (an error line, else the last line)."""
+    lines = [ln.strip() for ln in text.splitlines() if ln.strip()]
+    for ln in reversed(lines):
+        if re.search(r"error|never succeeded|failed|terminate|what\(\)", ln, re.IGNORECASE):
+            return ln[:limit]
+    return lines[-1][:limit] if lines else "(no output)"
+
+
+def run_logged(cmd, log_path, timeout_s=None):
+    """(exit code or None on timeout, wall seconds, output) of cmd, its output also in log_path."""
+    t0 = time.monotonic()
+    with open(log_path, "w") as f:
+        f.write("$ " + " ".join(cmd) + "\n")
+        f.flush()
+        proc = subprocess.Popen(cmd, stdout=f, stderr=subprocess.STDOUT)
+        try:
+            code = proc.wait(timeout=timeout_s if timeout_s else None)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+            code = None
+    with open(log_path, errors="replace") as f:
+        return code, time.monotonic() - t0, f.read()
+
+
+def score(run_dir, eval_json, stats, gt, est):
+    """The figures of one finished run (None where a figure does not exist)."""
+    s = {}
+    inp = (stats or {}).get("input", {})
+    est_ = (stats or {}).get("estimator", {})
+    fe = (stats or {}).get("frontend", {})
+    begin = float(gt[0, 0]) if len(gt) else inp.get("first_event_s")
+    end = float(gt[-1, 0]) if len(gt) else inp.get("last_event_s")
+    s["span_s"] = end - begin if begin is not None and end is not None else None
+    s["initialized"] = bool(est_.get("initialized"))
+    s["init_attempts"] = est_.get("init_attempts")
+    s["init_s"] = est_["initialized_at_s"] - begin if s["initialized"] and begin is not None else None
+    onset = motion_onset(gt)
+    s["motion_onset_s"] = onset - begin if onset is not None else None
+    s["init_after_onset_s"] = (s["init_s"] - s["motion_onset_s"]) if s["init_s"] is not None and onset is not None else None
+    s["coverage"] = coverage(est[:, 0], begin, end) if s["span_s"] else 0.0
+    s["events"] = (stats or {}).get("events")
+    s["mean_active_features"] = fe.get("mean_active_features")
+    s["wall_s"] = (stats or {}).get("wall_time_s")
+    s["real_time_factor"] = (stats or {}).get("real_time_factor")
+    s["median_update_ms"] = (stats or {}).get("update_time", {}).get("median_ms")
+    if eval_json:
+        path = eval_json.get("matched_gt_path_length_m") or 0.0
+        s["path_m"] = path
+        s["ate_m"] = eval_json["ate"]["trans_m"]["rmse"]
+        s["ate_pct"] = 100.0 * s["ate_m"] / path if path > 0 else None
+        rel = eval_json.get("relative_error", {}).get("per_length") or []
+        s["rte10_pct"] = rel[0]["trans_perc"]["mean"] if rel else None
+        vel = eval_json.get("velocity") or {}
+        s["vel_pct"] = vel.get("linear_rmse_perc_of_mean_speed")
+        s["scale"] = eval_json.get("alignment", {}).get("scale")
+    return s
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--asynevo", required=True)
+    p.add_argument("--dataset", required=True)
+    p.add_argument("--config", required=True)
+    p.add_argument("--run-dir", required=True)
+    p.add_argument("--score", required=True)
+    p.add_argument("--sequence", default="")
+    p.add_argument("--timeout", type=float, default=0, help="seconds; 0 = none")
+    args = p.parse_args()
+    os.makedirs(args.run_dir, exist_ok=True)
+    run_cmd = [args.asynevo, "run", "--dataset", args.dataset, "--config", args.config, "--out", args.run_dir]
+    code, wall, out = run_logged(run_cmd, os.path.join(args.run_dir, "run.log"), args.timeout)
+    rec = dict(sequence=args.sequence or os.path.basename(os.path.normpath(args.dataset)), command=run_cmd,
+               exit_code=code, process_wall_s=round(wall, 2), message="")  # fmt: skip
+    eval_json = None
+    if code is None:
+        rec["status"] = "timeout"
+        rec["message"] = "stopped after the time limit of %g s" % args.timeout
+    elif code != 0:
+        rec["status"] = "failed"
+        rec["message"] = last_message(out)
+    else:
+        ev_cmd = [args.asynevo, "eval", "--gt", os.path.join(args.run_dir, "stamped_groundtruth.txt"),
+                  "--est", os.path.join(args.run_dir, "stamped_traj_estimate.txt"),
+                  "--velocities", os.path.join(args.run_dir, "velocities.txt"), "--align", "sim3",
+                  "--out", args.run_dir]  # fmt: skip
+        ecode, _, eout = run_logged(ev_cmd, os.path.join(args.run_dir, "eval.log"))
+        if ecode != 0:
+            rec["status"] = "failed"
+            rec["message"] = "evaluation failed: " + last_message(eout)
+        else:
+            rec["status"] = "ok"
+            eval_json = read_json(os.path.join(args.run_dir, "eval.json"))
+    gt = load_poses(os.path.join(args.dataset, "groundtruth.txt"))
+    est = load_poses(os.path.join(args.run_dir, "stamped_traj_estimate.txt"))
+    rec.update(score(args.run_dir, eval_json, read_json(os.path.join(args.run_dir, "stats.json")), gt, est))
+    tmp = args.score + ".tmp"
+    with open(tmp, "w") as f:
+        json.dump(rec, f, indent=1, sort_keys=True)
+        f.write("\n")
+    os.replace(tmp, args.score)
+    print("%s: %s%s" % (rec["sequence"], rec["status"],
+                        " ATE %.2f %%" % rec["ate_pct"] if rec.get("ate_pct") is not None else " " + rec["message"]))  # fmt: skip
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
