@@ -662,11 +662,11 @@ def write_report(args, seqs, results, figures, machine, started, img_prefix):
             s["name"], s["scene"], s["motion"], s["duration_s"], s["seed"], "%.2f M" % (ev / 1e6) if ev else "–",
             fmt(s.get("gt_path_length_m"))))  # fmt: skip
     lines.append("")
-    lines.append("### Targets (issue 7)")
+    lines.append("#### Targets (issue 7)")
     lines.append("")
     lines.append(targets_table(seqs, results))
     lines.append("")
-    lines.append("### Accuracy (Sim(3) alignment, rpg_trajectory_evaluation definitions)")
+    lines.append("#### Accuracy (Sim(3) alignment, rpg_trajectory_evaluation definitions)")
     lines.append("")
     lines.append("RTE: mean relative translation error in % of the sub-trajectory length at 10 … 50 % of the "
                  "ground-truth path; rotation: pooled mean relative rotation error; velocity: RMSE of the "
@@ -675,14 +675,14 @@ def write_report(args, seqs, results, figures, machine, started, img_prefix):
     lines.append("")
     lines.append(accuracy_table(seqs, results))
     lines.append("")
-    lines.append("### Runtime (per backend update, `timing.csv` `total_ms`)")
+    lines.append("#### Runtime (per backend update, `timing.csv` `total_ms`)")
     lines.append("")
     lines.append("Real-time factor: whole-pipeline wall time ÷ event-time span (`stats.json`); backend s: sum of "
                  "`total_ms`; max knots: the most knots optimized in one update.")  # fmt: skip
     lines.append("")
     lines.append(runtime_table(seqs, results))
     lines.append("")
-    lines.append("### Median time ratio baseline ÷ AsynEVO, and its growth along the sequence")
+    lines.append("#### Median time ratio baseline ÷ AsynEVO, and its growth along the sequence")
     lines.append("")
     lines.append("Q1…Q4: ratio of the median update times within each quarter of the sequence's event-time "
                  "span (the same quarters for both; '–' where a stopped run did not get to); "
@@ -692,7 +692,7 @@ def write_report(args, seqs, results, figures, machine, started, img_prefix):
     lines.append("")
     lines.append(ratios_md)
     lines.append("")
-    lines.append("### Figures")
+    lines.append("#### Figures")
     lines.append("")
     captions = {
         "runtime_over_time.png": "Per-update backend time over event time (log scale)",
