@@ -3,7 +3,11 @@
 estimate, and the sequence's score (docs/evaluation_matrix.md, "What is measured").
 
   matrix_run.py --asynevo BIN --dataset SEQ_DIR --config FILE --run-dir DIR --score FILE
-                [--sequence NAME] [--timeout S]
+                [--sequence NAME] [--timeout S] [--replay-of RECORDED_RUN_DIR --replay-bin BIN]
+
+With --replay-of, the frontend does not run: the backend replays the tracks that run folder recorded
+(bench_replay_tracks, exact: the same tracks and order as in the run), with the backend section of
+--config. A backend setting is judged that way in seconds per sequence.
 
 Writes FILE (JSON) in every case: status "ok", or "failed" / "timeout" with the message that says
 why. A failed run is a result, not an error of this script, which exits 0 unless it could not write
@@ -14,11 +18,15 @@ import argparse
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 import time
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import config_text  # noqa: E402
 
 COVERAGE_MAX_GAP_S = 0.25  # estimate poses further apart than this do not cover the time between them
 ONSET_TRANSLATION_M = 0.01  # motion onset: the camera is this far from its first pose ...
@@ -85,7 +93,11 @@ def run_logged(cmd, log_path, timeout_s=None):
     with open(log_path, "w") as f:
         f.write("$ " + " ".join(cmd) + "\n")
         f.flush()
-        proc = subprocess.Popen(cmd, stdout=f, stderr=subprocess.STDOUT)
+        try:
+            proc = subprocess.Popen(cmd, stdout=f, stderr=subprocess.STDOUT)
+        except OSError as e:
+            f.write("error: cannot start %s: %s\n" % (cmd[0], e.strerror))
+            return 127, time.monotonic() - t0, "error: cannot start %s: %s" % (cmd[0], e.strerror)
         try:
             code = proc.wait(timeout=timeout_s if timeout_s else None)
         except subprocess.TimeoutExpired:
@@ -96,7 +108,7 @@ def run_logged(cmd, log_path, timeout_s=None):
         return code, time.monotonic() - t0, f.read()
 
 
-def score(run_dir, eval_json, stats, gt, est):
+def score(eval_json, stats, gt, est):
     """The figures of one finished run (None where a figure does not exist)."""
     s = {}
     inp = (stats or {}).get("input", {})
@@ -130,6 +142,76 @@ def score(run_dir, eval_json, stats, gt, est):
     return s
 
 
+def run_full(args):
+    """`asynevo run` on the sequence: (record, stats.json)."""
+    cmd = [args.asynevo, "run", "--dataset", args.dataset, "--config", args.config, "--out", args.run_dir]
+    code, wall, out = run_logged(cmd, os.path.join(args.run_dir, "run.log"), args.timeout)
+    rec = dict(command=cmd, exit_code=code, process_wall_s=round(wall, 2))
+    if code is None:
+        rec.update(status="timeout", message="stopped after the time limit of %g s" % args.timeout)
+    elif code != 0:
+        rec.update(status="failed", message=last_message(out))
+    else:
+        rec.update(status="ok", message="")
+    return rec, read_json(os.path.join(args.run_dir, "stats.json"))
+
+
+def run_replay(args):
+    """The backend alone on the tracks another setting's run recorded (its frontend configuration, the
+    backend section of --config): (record, stats as far as the replay reports them)."""
+    recorded = args.replay_of
+    needed = [os.path.join(recorded, f) for f in ("config.yaml", "tracks.txt", "backend_feed.txt")]
+    missing = [f for f in needed if not os.path.isfile(f)]
+    if missing:
+        return dict(status="failed", message="nothing to replay: %s missing" % ", ".join(missing)), None
+    with open(needed[0]) as f, open(args.config) as g:
+        config = config_text.with_backend_of(f.read(), g.read())
+    with open(os.path.join(args.run_dir, "config.yaml"), "w") as f:
+        f.write(config)
+    for name in ("tracks.txt", "backend_feed.txt"):
+        link = os.path.join(args.run_dir, name)
+        if os.path.lexists(link):
+            os.remove(link)
+        os.symlink(os.path.abspath(os.path.join(recorded, name)), link)
+    gt = os.path.join(recorded, "stamped_groundtruth.txt")
+    if os.path.isfile(gt):
+        shutil.copyfile(gt, os.path.join(args.run_dir, "stamped_groundtruth.txt"))
+    est = os.path.join(args.run_dir, "stamped_traj_estimate.txt")
+    cmd = [args.replay_bin, args.run_dir, args.dataset, est]
+    code, wall, out = run_logged(cmd, os.path.join(args.run_dir, "replay.log"), args.timeout)
+    rec = dict(command=cmd, exit_code=code, process_wall_s=round(wall, 2), replay_of=recorded)
+    if os.path.isfile(est + ".velocities.txt"):
+        os.replace(est + ".velocities.txt", os.path.join(args.run_dir, "velocities.txt"))
+    m = re.search(r"initialized (true|false) at ([0-9.]+) s after ([0-9]+) attempt", out)
+    recorded_stats = read_json(os.path.join(recorded, "stats.json")) or {}
+    stats = dict(input=recorded_stats.get("input", {}), frontend=recorded_stats.get("frontend", {}),
+                 events=recorded_stats.get("events"), wall_time_s=wall,
+                 estimator=dict(initialized=bool(m and m.group(1) == "true"),
+                                initialized_at_s=float(m.group(2)) if m else 0.0,
+                                init_attempts=int(m.group(3)) if m else None))  # fmt: skip
+    if code is None:
+        rec.update(status="timeout", message="stopped after the time limit of %g s" % args.timeout)
+    elif code != 0:
+        rec.update(status="failed", message=last_message(out))
+    elif not stats["estimator"]["initialized"]:
+        rec.update(status="failed", message="initialization never succeeded (replay)")
+    else:
+        rec.update(status="ok", message="")
+    return rec, stats
+
+
+def evaluate(args, rec):
+    """`asynevo eval` of a finished run; eval.json or None (the record then says why)."""
+    cmd = [args.asynevo, "eval", "--gt", os.path.join(args.run_dir, "stamped_groundtruth.txt"),
+           "--est", os.path.join(args.run_dir, "stamped_traj_estimate.txt"),
+           "--velocities", os.path.join(args.run_dir, "velocities.txt"), "--align", "sim3", "--out", args.run_dir]  # fmt: skip
+    code, _, out = run_logged(cmd, os.path.join(args.run_dir, "eval.log"))
+    if code != 0:
+        rec.update(status="failed", message="evaluation failed: " + last_message(out))
+        return None
+    return read_json(os.path.join(args.run_dir, "eval.json"))
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--asynevo", required=True)
@@ -139,34 +221,18 @@ def main():
     p.add_argument("--score", required=True)
     p.add_argument("--sequence", default="")
     p.add_argument("--timeout", type=float, default=0, help="seconds; 0 = none")
+    p.add_argument("--replay-of", help="replay the tracks this run folder recorded (backend section of --config)")
+    p.add_argument("--replay-bin", help="bench_replay_tracks (with --replay-of)")
     args = p.parse_args()
+    if args.replay_of and not args.replay_bin:
+        p.error("--replay-of needs --replay-bin")
     os.makedirs(args.run_dir, exist_ok=True)
-    run_cmd = [args.asynevo, "run", "--dataset", args.dataset, "--config", args.config, "--out", args.run_dir]
-    code, wall, out = run_logged(run_cmd, os.path.join(args.run_dir, "run.log"), args.timeout)
-    rec = dict(sequence=args.sequence or os.path.basename(os.path.normpath(args.dataset)), command=run_cmd,
-               exit_code=code, process_wall_s=round(wall, 2), message="")  # fmt: skip
-    eval_json = None
-    if code is None:
-        rec["status"] = "timeout"
-        rec["message"] = "stopped after the time limit of %g s" % args.timeout
-    elif code != 0:
-        rec["status"] = "failed"
-        rec["message"] = last_message(out)
-    else:
-        ev_cmd = [args.asynevo, "eval", "--gt", os.path.join(args.run_dir, "stamped_groundtruth.txt"),
-                  "--est", os.path.join(args.run_dir, "stamped_traj_estimate.txt"),
-                  "--velocities", os.path.join(args.run_dir, "velocities.txt"), "--align", "sim3",
-                  "--out", args.run_dir]  # fmt: skip
-        ecode, _, eout = run_logged(ev_cmd, os.path.join(args.run_dir, "eval.log"))
-        if ecode != 0:
-            rec["status"] = "failed"
-            rec["message"] = "evaluation failed: " + last_message(eout)
-        else:
-            rec["status"] = "ok"
-            eval_json = read_json(os.path.join(args.run_dir, "eval.json"))
+    rec, stats = run_replay(args) if args.replay_of else run_full(args)
+    rec["sequence"] = args.sequence or os.path.basename(os.path.normpath(args.dataset))
+    eval_json = evaluate(args, rec) if rec["status"] == "ok" else None
     gt = load_poses(os.path.join(args.dataset, "groundtruth.txt"))
     est = load_poses(os.path.join(args.run_dir, "stamped_traj_estimate.txt"))
-    rec.update(score(args.run_dir, eval_json, read_json(os.path.join(args.run_dir, "stats.json")), gt, est))
+    rec.update(score(eval_json, stats, gt, est))
     tmp = args.score + ".tmp"
     with open(tmp, "w") as f:
         json.dump(rec, f, indent=1, sort_keys=True)

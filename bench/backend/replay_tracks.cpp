@@ -14,13 +14,13 @@
 // --drop-edges: features born on a depth discontinuity, or whose point leaves the view, are skipped.
 //
 // RUN_DIR holds tracks.txt, backend_feed.txt and config.yaml (from 'asynevo run'), DATASET_DIR the
-// sequence (calib.txt; for --oracle a folder written by 'asynevo simulate'). Measurements are fed in
-// file order (the order the backend took them), each time marker of backend_feed.txt after as many
-// tracks.txt lines as the backend had taken before it, and normalized coordinates come from the
-// frontend's undistortion table: without --oracle or --drop-edges the replay reproduces the run's
-// trajectory byte for byte (tests/bench/replay_reproduces_run.sh). The feature ends are not replayed:
-// the window estimator does not use them. A run folder without backend_feed.txt (older runs) gets a
-// marker at every 1 ms up to each measurement's time, which misses the frontend's emission lag (a
+// sequence (calib.txt or a Kalibr camchain; for --oracle a folder written by 'asynevo simulate').
+// Measurements are fed in file order (the order the backend took them), each time marker of
+// backend_feed.txt after as many tracks.txt lines as the backend had taken before it, and normalized
+// coordinates come from the frontend's undistortion table: without --oracle or --drop-edges the replay
+// reproduces the run's trajectory byte for byte (tests/bench/replay_reproduces_run.sh). The feature ends are
+// not replayed: the window estimator does not use them. A run folder without backend_feed.txt (older runs)
+// gets a marker at every 1 ms up to each measurement's time, which misses the frontend's emission lag (a
 // tracker's first state is recorded once its window has filled): on the demo its initialization then
 // starts at 0.61 s instead of 1.16 s.
 #include <fmt/format.h>
@@ -41,6 +41,7 @@
 #include "asynevo/core/config/config.hpp"
 #include "asynevo/core/time.hpp"
 #include "asynevo/io/calibration_io.hpp"
+#include "asynevo/io/dataset.hpp"
 #include "asynevo/io/trajectory_io.hpp"
 #include "asynevo/sim/feature_ground_truth.hpp"
 
@@ -118,8 +119,10 @@ std::vector<FeedMarker> readFeed(const std::string& path) {
 int main(int argc, char** argv) try {
   const Args args = parse(argc, argv);
   const Config config = loadConfig(args.run + "/config.yaml");
-  const CameraModel camera =
-      readCalibration(args.dataset + "/calib.txt", config.sensor.width, config.sensor.height);
+  // The calibration the run used: calib.txt or a Kalibr camchain, whichever the folder holds.
+  const DatasetFiles files = resolveDataset(args.dataset);
+  if (!files.calibration) throw std::runtime_error(args.dataset + ": no calib.txt or Kalibr camchain .yaml");
+  const CameraModel camera = readCalibration(*files.calibration, config.sensor.width, config.sensor.height);
   // The frontend's undistortion (the same table, bilinear): normalized coordinates as the backend got them.
   const UndistortionTable<float> undistortion = camera.undistortionTable<float>();
   std::optional<sim::FeatureGroundTruth> truth;
@@ -234,9 +237,10 @@ int main(int argc, char** argv) try {
                              r.landmarks, r.measurements, r.iterations, r.solve_ms, r.total_ms, r.final_cost);
   }
   const auto stats = estimator->stats();
-  fmt::print("{}: fed {} measurements ({} skipped), {} knots, initialized {} at {:.3f} s\n",
-             estimator->name(), fed, skipped, trajectory.size(), stats.initialized,
-             stats.initialized_at_ns * 1e-9);
+  fmt::print(
+      "{}: fed {} measurements ({} skipped), {} knots, initialized {} at {:.3f} s after {} attempt(s)\n",
+      estimator->name(), fed, skipped, trajectory.size(), stats.initialized, stats.initialized_at_ns * 1e-9,
+      stats.init_attempts);
   if (stats.initialized) fmt::print("initial views {}\n", backend::describeInitViews(stats.init_views));
   fmt::print(
       "landmarks {} (marginalized {}), tracks rejected {}, outliers {}, observations marginalized {}, "
