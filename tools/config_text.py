@@ -1,6 +1,6 @@
 """Edits of AsynEVO configuration text (config/*.yaml, a run folder's config.yaml) that keep its
 comments and layout: `section.key=value` overrides and swapping the backend section. Used by the
-evaluation matrix's replays (tools/matrix_run.py) and tools/robustness_sweep.py."""
+evaluation matrix's replays (tools/matrix_run.py)."""
 
 import re
 

@@ -87,7 +87,8 @@ def median(values):
 
 def summarize(rows):
     """{metric: (median, worst)} and counts over rows."""
-    out = dict(n=len(rows), failed=sum(1 for r in rows if r.get("status") != "ok"))
+    out = dict(n=len(rows), failed=sum(1 for r in rows if r.get("status") != "ok"),
+               above2=sum(1 for r in rows if value(r, "ate_pct") > 2.0))
     for key, (_, _, higher_better) in METRICS.items():
         vals = [value(r, key) for r in rows]
         worst = (min(vals) if higher_better else max(vals)) if vals else None
@@ -105,14 +106,14 @@ def cell(x, digits=2):
 
 def summary_table(groups):
     """Markdown table: one row per (label, summary)."""
-    head = "| | runs | failed | " + " | ".join("%s median / worst" % METRICS[k][0] for k in METRICS) + " |"
-    lines = [head, "|---|---|---|" + "---|" * len(METRICS)]
+    head = "| | runs | failed | ATE > 2 % or failed | " + " | ".join("%s median / worst" % METRICS[k][0] for k in METRICS) + " |"
+    lines = [head, "|---|---|---|---|" + "---|" * len(METRICS)]
     for label, s in groups:
         cells = []
         for k in METRICS:
             d = 1 if k in ("rte10_pct", "vel_pct", "coverage_pct") else 2
             cells.append("%s / %s" % (cell(s[k]["median"], d), cell(s[k]["worst"], d)))
-        lines.append("| %s | %d | %d | %s |" % (label, s["n"], s["failed"], " | ".join(cells)))
+        lines.append("| %s | %d | %d | %d | %s |" % (label, s["n"], s["failed"], s["above2"], " | ".join(cells)))
     return "\n".join(lines)
 
 

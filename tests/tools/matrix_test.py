@@ -127,6 +127,7 @@ def units():
     summary = matrix_report.summarize(rows)
     check(summary["failed"] == 1 and summary["ate_pct"]["worst"] == float("inf"), "a failed run is the worst ATE")
     check(summary["coverage_pct"]["worst"] == 0.0, "a failed run's coverage is 0")
+    check(summary["above2"] == 1, "a failed run counts among the runs above 2 %")
     md = os.path.join(tmp, "report", "report.md")
     docs = os.path.join(tmp, "results.md")
     with open(docs, "w") as f:
