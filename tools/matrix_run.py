@@ -142,9 +142,38 @@ def score(eval_json, stats, gt, est):
     return s
 
 
+def sensor_size(dataset):
+    """(width, height) from the sequence's Kalibr camchain.yaml (the simulator writes one), else None."""
+    try:
+        with open(os.path.join(dataset, "camchain.yaml")) as f:
+            m = re.search(r"resolution:\s*\[\s*(\d+)\s*,\s*(\d+)\s*\]", f.read())
+    except OSError:
+        return None
+    return (int(m.group(1)), int(m.group(2))) if m else None
+
+
+def config_for(config_path, dataset, run_dir):
+    """The configuration file a run uses: `config_path` itself, or, when it has a `sensor:` section and
+    the sequence is of another size, a copy in run_dir with the sequence's sensor size (a setting is
+    judged on every sensor of the matrix; its sensor section only describes DAVIS240C text files)."""
+    size = sensor_size(dataset)
+    with open(config_path) as f:
+        text = f.read()
+    if size is None or not re.search(r"^sensor:", text, re.MULTILINE):
+        return config_path
+    resized = config_text.override_yaml(text, ["sensor.width=%d" % size[0], "sensor.height=%d" % size[1]], config_path)
+    if resized == text:
+        return config_path
+    path = os.path.join(run_dir, "input_config.yaml")
+    with open(path, "w") as f:
+        f.write(resized)
+    return path
+
+
 def run_full(args):
     """`asynevo run` on the sequence: (record, stats.json)."""
-    cmd = [args.asynevo, "run", "--dataset", args.dataset, "--config", args.config, "--out", args.run_dir]
+    config = config_for(args.config, args.dataset, args.run_dir)
+    cmd = [args.asynevo, "run", "--dataset", args.dataset, "--config", config, "--out", args.run_dir]
     code, wall, out = run_logged(cmd, os.path.join(args.run_dir, "run.log"), args.timeout)
     rec = dict(command=cmd, exit_code=code, process_wall_s=round(wall, 2))
     if code is None:

@@ -113,6 +113,20 @@ def units():
     check(onset is not None and abs(onset - 1.601) < 0.002, "motion onset is when the camera is 1 cm away (%s)" % onset)
     check(matrix_run.motion_onset(gt[:1000]) is None, "a still camera has no onset")
 
+    # a configuration's sensor section follows the sequence's sensor
+    seq_dir = os.path.join(tmp, "seq346")
+    os.makedirs(seq_dir)
+    with open(os.path.join(seq_dir, "camchain.yaml"), "w") as f:
+        f.write("cam0:\n  camera_model: pinhole\n  resolution: [346, 260]\n")
+    cfg = os.path.join(tmp, "cfg.yaml")
+    with open(cfg, "w") as f:
+        f.write("# c\nsensor:\n  # w\n  width: 240\n  height: 180\nbackend:\n  knot_dt_ms: 50\n")
+    used = matrix_run.config_for(cfg, seq_dir, tmp)
+    text = open(used).read()
+    check(used != cfg and "  width: 346\n  height: 260\n" in text and "# w" in text and "knot_dt_ms: 50" in text,
+          "a 240x180 sensor section becomes the sequence's 346x260, the rest unchanged")  # fmt: skip
+    check(matrix_run.config_for(cfg, tmp, tmp) == cfg, "a sequence without camchain.yaml keeps the configuration")
+
     # the report: failures are the worst value and stay in the tables
     runs = os.path.join(tmp, "runs")
     for name, score in (
