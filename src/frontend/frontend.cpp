@@ -60,6 +60,9 @@ std::string FrontendStats::summary() const {
                    perSecond(events));
   s += fmt::format("dropped events    {} outside the sensor, {} time reversal; {} clamped\n",
                    dropped_out_of_sensor, dropped_time_reversal, clamped_time);
+  if (dropped_hot_pixel + dropped_noise_filter > 0)
+    s += fmt::format("noise filters     {} events of hot pixels, {} without neighbour support dropped\n",
+                     dropped_hot_pixel, dropped_noise_filter);
   s += fmt::format("detector          {} runs, {} candidates, {} corners ({:.0f} corners/s)\n", detector_runs,
                    candidates, corners, perSecond(corners));
   s += fmt::format("trackers          {} in-range updates, {} state changes\n", tracker_updates,
@@ -164,6 +167,7 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
       sae_(width, height, msToNs(config.refractory_period_ms)),
       detector_(sae_, detectorParams(config)),
       registration_(static_cast<std::size_t>(width) * height, -1),
+      pixel_events_(static_cast<std::size_t>(width) * height, 0),
       slots_(config.max_features),
       id_map_(config.max_features),
       grid_w_((width + (1 << kCellShift) - 1) >> kCellShift),
@@ -180,6 +184,11 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
       max_rotation_rad_(static_cast<float>(config.max_rotation_deg * kPi / 180.0)),
       border_margin_(static_cast<float>(config.border_margin_px)) {
   config.validate();
+  if (config.hot_pixel_filter)
+    hot_pixel_filter_ = std::make_unique<HotPixelFilter>(width, height, msToNs(config.hot_pixel_window_ms),
+                                                         config.hot_pixel_factor, config.hot_pixel_min_rate_hz);
+  if (config.noise_filter)
+    noise_filter_ = std::make_unique<BackgroundActivityFilter>(width, height, msToNs(config.noise_filter_ms));
   if (undistortion_.width() != 0 && (undistortion_.width() != width || undistortion_.height() != height))
     throw Error(fmt::format("frontend: undistortion table is {}x{} but the sensor is {}x{}",
                             undistortion_.width(), undistortion_.height(), width, height));
@@ -256,7 +265,17 @@ void Frontend::process(const Event& input, MeasurementSink& sink) {
   }
   newest_t_ns_ = t;
   stats_.last_t_ns = t;
+  uint32_t& pixel_count = pixel_events_[static_cast<std::size_t>(input.y) * width_ + input.x];
+  pixel_count += pixel_count != UINT32_MAX ? 1 : 0;
   if (t >= next_housekeeping_ns_) housekeeping(t, sink);
+  if (hot_pixel_filter_ && !hot_pixel_filter_->pass(input.x, input.y, t)) {
+    ++stats_.dropped_hot_pixel;
+    return;
+  }
+  if (noise_filter_ && !noise_filter_->pass(input.x, input.y, t)) {
+    ++stats_.dropped_noise_filter;
+    return;
+  }
 
   Event e = input;
   e.t_ns = t;
@@ -578,6 +597,36 @@ void Frontend::finish(MeasurementSink& sink) {
   if (started_) housekeeping(newest_t_ns_, sink);
   for (int slot = 0; slot < static_cast<int>(slots_.size()); ++slot)
     if (slots_[slot].id >= 0) drop(slot, DropReason::kFinished, newest_t_ns_, sink);
+}
+
+std::vector<std::pair<int, int>> Frontend::hotPixels() const {
+  return hot_pixel_filter_ ? hot_pixel_filter_->hotPixels() : std::vector<std::pair<int, int>>{};
+}
+
+std::vector<Frontend::PixelCount> Frontend::dominantPixels(double share, int max_pixels) const {
+  uint64_t total = 0;
+  for (uint32_t c : pixel_events_) total += c;
+  std::vector<PixelCount> top;
+  if (total == 0 || max_pixels <= 0) return top;
+  // Keep the max_pixels busiest pixels (a min-heap on the count would do; max_pixels is small).
+  for (std::size_t i = 0; i < pixel_events_.size(); ++i) {
+    const uint32_t c = pixel_events_[i];
+    if (c == 0 || (static_cast<int>(top.size()) == max_pixels && c <= top.back().events)) continue;
+    PixelCount p{static_cast<int>(i % static_cast<std::size_t>(width_)), static_cast<int>(i / static_cast<std::size_t>(width_)), c};
+    auto at = std::upper_bound(top.begin(), top.end(), p,
+                               [](const PixelCount& a, const PixelCount& b) { return a.events > b.events; });
+    top.insert(at, p);
+    if (static_cast<int>(top.size()) > max_pixels) top.pop_back();
+  }
+  uint64_t sum = 0;
+  for (std::size_t k = 0; k < top.size(); ++k) {
+    sum += top[k].events;
+    if (static_cast<double>(sum) > share * static_cast<double>(total)) {
+      top.resize(k + 1);
+      return top;
+    }
+  }
+  return {};
 }
 
 std::vector<Frontend::FeatureView> Frontend::features() const {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -30,6 +31,33 @@ double peakMemoryMb() {
   if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
 }
+
+namespace {
+
+std::string pixelList(const std::vector<std::pair<int, int>>& pixels, std::size_t at_most) {
+  std::string s;
+  for (std::size_t i = 0; i < std::min(pixels.size(), at_most); ++i)
+    s += fmt::format("{}({}, {})", i ? " " : "", pixels[i].first, pixels[i].second);
+  return pixels.size() > at_most ? s + " ..." : s;
+}
+
+/// Warnings about sensor noise: pixels the hot-pixel filter masked, and a stream where a few pixels
+/// sent more than half of the events (hot pixels or a flickering light, filtered or not).
+void noiseWarnings(const frontend::Frontend& fe, std::vector<std::string>& warnings) {
+  const auto hot = fe.hotPixels();
+  if (!hot.empty())
+    warnings.push_back(fmt::format("the hot-pixel filter masked {} pixel(s): {}", hot.size(), pixelList(hot, 10)));
+  const auto dominant = fe.dominantPixels(0.5, 16);
+  if (dominant.empty()) return;
+  std::string list;
+  for (const auto& p : dominant) list += fmt::format("{}({}, {}) {} events", list.empty() ? "" : ", ", p.x, p.y, p.events);
+  warnings.push_back(fmt::format(
+      "more than half of the events came from {} pixel(s): {} (hot pixels or a flickering light; "
+      "frontend.hot_pixel_filter masks hot pixels)",
+      dominant.size(), list));
+}
+
+}  // namespace
 
 RunSummary runDataset(const RunOptions& options,
                       const std::function<void(const PipelineProgress&)>& progress) {
@@ -99,6 +127,8 @@ RunSummary runDataset(const RunOptions& options,
   writer.close();
 
   summary.frontend = fe.stats();
+  summary.hot_pixels = fe.hotPixels();
+  noiseWarnings(fe, summary.warnings);
   summary.estimator = estimator.stats();
   summary.update_time = writer.updateTimeStats();
   summary.knots_written = writer.knotsWritten();
@@ -194,6 +224,9 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("dropped_out_of_sensor", f.dropped_out_of_sensor)
       .add("dropped_time_reversal", f.dropped_time_reversal)
       .add("clamped_time", f.clamped_time)
+      .add("dropped_hot_pixel", f.dropped_hot_pixel)
+      .add("dropped_noise_filter", f.dropped_noise_filter)
+      .add("hot_pixels", static_cast<uint64_t>(s.hot_pixels.size()))
       .add("filter_accepted", f.filter_accepted)
       .add("detector_runs", f.detector_runs)
       .add("candidates", f.candidates)

@@ -28,6 +28,7 @@
 #include "asynevo/core/config/frontend_config.hpp"
 #include "asynevo/core/event.hpp"
 #include "asynevo/frontend/corner_detector.hpp"
+#include "asynevo/frontend/event_filter.hpp"
 #include "asynevo/frontend/haste_tracker.hpp"
 #include "asynevo/frontend/sae.hpp"
 #include "asynevo/frontend/track_measurement.hpp"
@@ -79,6 +80,8 @@ struct FrontendStats {
   uint64_t dropped_out_of_sensor = 0;  ///< outside width x height
   uint64_t dropped_time_reversal = 0;  ///< earlier than the newest by more than the tolerance
   uint64_t clamped_time = 0;           ///< slightly earlier: processed at the newest time
+  uint64_t dropped_hot_pixel = 0;      ///< from a pixel the hot-pixel filter masked
+  uint64_t dropped_noise_filter = 0;   ///< without support in the background-activity filter
   uint64_t filter_accepted = 0;        ///< passed the refractory filter
   uint64_t detector_runs = 0;          ///< events that reached the corner detector
   uint64_t candidates = 0;             ///< Arc* candidates among them
@@ -139,6 +142,18 @@ class Frontend {
     const int slot = id_map_.find(id);
     return slot < 0 ? nullptr : slots_[static_cast<std::size_t>(slot)].tracker.get();
   }
+
+  /// Pixels the hot-pixel filter masked (x, y), in the order found; empty when it is off.
+  std::vector<std::pair<int, int>> hotPixels() const;
+
+  struct PixelCount {
+    int x, y;
+    uint64_t events;
+  };
+  /// The fewest pixels (at most `max_pixels`, busiest first) that together sent more than `share` of
+  /// the events inside the sensor; empty when `max_pixels` pixels do not reach that share (a stream
+  /// dominated by a few pixels: hot pixels, a flickering light).
+  std::vector<PixelCount> dominantPixels(double share, int max_pixels) const;
 
   /// Normalized coordinates of a raw position (bilinear in the table); false when not available.
   bool normalize(float x, float y, float& xn, float& yn) const;
@@ -219,9 +234,12 @@ class Frontend {
   int width_;
   int height_;
   UndistortionTable<float> undistortion_;
+  std::unique_ptr<HotPixelFilter> hot_pixel_filter_;        ///< null when off
+  std::unique_ptr<BackgroundActivityFilter> noise_filter_;  ///< null when off
   SurfaceOfActiveEvents sae_;
   CornerDetector detector_;
   std::vector<int64_t> registration_;  ///< W x H feature ids, -1 = empty
+  std::vector<uint32_t> pixel_events_;  ///< W x H events received per pixel (saturating)
   std::vector<Slot> slots_;
   std::vector<int> free_slots_;
   IdMap id_map_;

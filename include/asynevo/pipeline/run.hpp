@@ -48,6 +48,7 @@ struct RunSummary {
   std::string backend_name;
   PipelineStats pipeline;
   frontend::FrontendStats frontend;
+  std::vector<std::pair<int, int>> hot_pixels;  ///< pixels the frontend's hot-pixel filter masked
   backend::EstimatorStats estimator;
   UpdateTimeStats update_time;
   uint64_t knots_written = 0;

@@ -28,6 +28,10 @@ void InputConfig::validate() const {
 }
 
 void FrontendConfig::validate() const {
+  requireRange("frontend.noise_filter_ms", noise_filter_ms, 0.001, 1e4);
+  requireRange("frontend.hot_pixel_window_ms", hot_pixel_window_ms, 1.0, 1e6);
+  requireRange("frontend.hot_pixel_factor", hot_pixel_factor, 1.0, 1e6);
+  requireRange("frontend.hot_pixel_min_rate_hz", hot_pixel_min_rate_hz, 0.0, 1e7);
   requireRange("frontend.refractory_period_ms", refractory_period_ms, 0.0, 1e6);
   if (detector != "fa_harris" && detector != "arc_star")
     throw ConfigError(fmt::format("configuration value frontend.detector = '{}' is not one of fa_harris, arc_star",

@@ -11,6 +11,14 @@
 namespace asynevo {
 
 struct FrontendConfig {
+  // --- sensor noise (docs/frontend.md, "Sensor noise") ---------------------------------------
+  bool noise_filter = false;       ///< background-activity filter (Delbruck 2008) in front of everything
+  double noise_filter_ms = 5.0;    ///< ...an event needs a neighbour's event within this long before it
+  bool hot_pixel_filter = false;   ///< mask pixels that fire far above their neighbours
+  double hot_pixel_window_ms = 1000.0;  ///< ...counted over windows of this much event time
+  double hot_pixel_factor = 10.0;       ///< ...hot: count > factor x (mean count of the 8 neighbours + 1)
+  double hot_pixel_min_rate_hz = 20.0;  ///< ...and at least this rate
+
   // --- refractory filter and SAE -------------------------------------------------------------
   double refractory_period_ms = 50.0;  ///< (ref) same-polarity refractory filter dt_f
 
@@ -55,6 +63,16 @@ struct FrontendConfig {
 
   template <class V>
   void visit(V& v) {
+    v("noise_filter", noise_filter,
+      "background-activity filter (Delbruck 2008): an event reaches the SAE, the detector and the trackers "
+      "only when one of its 8 neighbours fired within noise_filter_ms before it");
+    v("noise_filter_ms", noise_filter_ms, "background-activity filter: support window (ms, > 0)");
+    v("hot_pixel_filter", hot_pixel_filter,
+      "hot-pixel filter: a pixel whose event count in a window exceeds hot_pixel_factor x (the mean count of "
+      "its 8 neighbours + 1) and hot_pixel_min_rate_hz is masked for the rest of the stream");
+    v("hot_pixel_window_ms", hot_pixel_window_ms, "hot-pixel filter: counting window of event time (ms, > 0)");
+    v("hot_pixel_factor", hot_pixel_factor, "hot-pixel filter: how far above its neighbours a hot pixel fires");
+    v("hot_pixel_min_rate_hz", hot_pixel_min_rate_hz, "hot-pixel filter: the least rate of a hot pixel (Hz)");
     v("refractory_period_ms", refractory_period_ms,
       "refractory filter: an event is ignored by the detector when its pixel fired with the same "
       "polarity less than this ago and did not flip polarity since (Arc*/FA-Harris: 50 ms)");
