@@ -1,5 +1,7 @@
 #include "asynevo/sim/event_simulator.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -27,17 +29,49 @@ bool eventLess(const Event& a, const Event& b) {
 EventSimulator::EventSimulator(const CameraModel& camera, const Scene& scene, const EventSimConfig& config,
                                uint64_t seed)
     : camera_(camera), renderer_(camera, scene), config_(config), seed_(seed) {
-  if (!(config.contrast > 0) || !(config.contrast_sigma >= 0) || !(config.min_contrast > 0)) {
-    throw std::invalid_argument("contrast thresholds must be positive");
+  if (!(config.contrast > 0) || !(config.min_contrast > 0)) {
+    throw std::invalid_argument(
+        fmt::format("the contrast threshold (--contrast) must be positive, got {}", config.contrast));
+  }
+  if (!(config.contrast_sigma >= 0)) {
+    throw std::invalid_argument(fmt::format(
+        "the threshold spread (--contrast-sigma) must not be negative, got {}", config.contrast_sigma));
   }
   if (!(config.log_epsilon > 0)) throw std::invalid_argument("log_epsilon must be positive");
-  if (!(config.max_pixel_motion > 0)) throw std::invalid_argument("max_pixel_motion must be positive");
+  if (!(config.max_pixel_motion > 0)) {
+    throw std::invalid_argument(fmt::format(
+        "the render step's image motion (--max-step-motion) must be positive, got {}", config.max_pixel_motion));
+  }
   if (config.min_step_ns <= 0 || config.max_step_ns < config.min_step_ns) {
     throw std::invalid_argument("render step bounds must satisfy 0 < min_step_ns <= max_step_ns");
   }
-  if (config.refractory_ns < 0 || config.noise_rate_hz < 0 || config.hot_pixels < 0 ||
-      config.hot_pixel_rate_hz < 0) {
-    throw std::invalid_argument("refractory period, noise rate and hot pixels must not be negative");
+  if (config.refractory_ns < 0) {
+    throw std::invalid_argument(fmt::format("the refractory period (--refractory-us) must not be negative, got {} us",
+                                            static_cast<double>(config.refractory_ns) / 1e3));
+  }
+  if (!(config.noise_rate_hz >= 0) || !std::isfinite(config.noise_rate_hz)) {
+    throw std::invalid_argument(
+        fmt::format("the background rate (--noise-rate) must not be negative, got {}", config.noise_rate_hz));
+  }
+  if (config.hot_pixels < 0) {
+    throw std::invalid_argument(
+        fmt::format("the hot-pixel count (--hot-pixels) must not be negative, got {}", config.hot_pixels));
+  }
+  if (!(config.hot_pixel_rate_hz >= 0) || !std::isfinite(config.hot_pixel_rate_hz)) {
+    throw std::invalid_argument(fmt::format(
+        "the hot-pixel rate (--hot-pixel-rate) must not be negative, got {}", config.hot_pixel_rate_hz));
+  }
+  if (!(config.noise_on_fraction >= 0 && config.noise_on_fraction <= 1)) {
+    throw std::invalid_argument(fmt::format(
+        "the ON share of noise events (--noise-on-fraction) must be in [0, 1], got {}", config.noise_on_fraction));
+  }
+  if (!(config.contrast_drift >= 0 && config.contrast_drift < 0.5)) {
+    throw std::invalid_argument(fmt::format(
+        "the threshold drift (--contrast-drift) must be in [0, 0.5), got {}", config.contrast_drift));
+  }
+  if (config.time_jitter_ns < 0) {
+    throw std::invalid_argument(fmt::format("the timestamp jitter (--time-jitter-us) must not be negative, got {} us",
+                                            static_cast<double>(config.time_jitter_ns) / 1e3));
   }
   const std::size_t n = static_cast<std::size_t>(camera.width()) * static_cast<std::size_t>(camera.height());
   Random rng(seed ^ 0x434F4E5452415354ULL);  // "CONTRAST"
@@ -49,14 +83,28 @@ EventSimulator::EventSimulator(const CameraModel& camera, const Scene& scene, co
     c_off_[i] = static_cast<float>(
         std::max(config.min_contrast, config.contrast + config.contrast_sigma * rng.normal()));
   }
+  // The drift's three sinusoids: periods 5-30 s, random phases (own generator, so the drift does not
+  // change any other random draw).
+  Random drift_rng(seed ^ 0x4452494654000000ULL);  // "DRIFT"
+  for (int k = 0; k < 3; ++k) {
+    drift_hz_[k] = 1.0 / (5.0 + 25.0 * drift_rng.uniform());
+    drift_phase_[k] = 6.283185307179586 * drift_rng.uniform();
+  }
   intensity_.resize(n);
   log_prev_.resize(n);
   log_ref_.resize(n);
   last_event_ns_.assign(n, kNever);
 }
 
-void EventSimulator::processRows(const Renderer::Frame& frame, int64_t t_a, int64_t t_b, int r0, int r1,
-                                 std::vector<Event>& out, uint64_t& drops) {
+double EventSimulator::contrastScale(double t_s) const {
+  if (config_.contrast_drift == 0) return 1.0;
+  double sum = 0;
+  for (int k = 0; k < 3; ++k) sum += std::sin(6.283185307179586 * drift_hz_[k] * t_s + drift_phase_[k]);
+  return 1.0 + config_.contrast_drift * sum / 3.0;
+}
+
+void EventSimulator::processRows(const Renderer::Frame& frame, int64_t t_a, int64_t t_b, float contrast_scale,
+                                 int r0, int r1, std::vector<Event>& out, uint64_t& drops) {
   renderer_.render(frame, intensity_.data(), r0, r1);
   const int w = camera_.width();
   const auto eps = static_cast<float>(config_.log_epsilon);
@@ -70,7 +118,7 @@ void EventSimulator::processRows(const Renderer::Frame& frame, int64_t t_a, int6
       const float dl = l_b - l_a;
       if (dl == 0.0f) continue;
       float ref = log_ref_[i];
-      const float c = dl > 0 ? c_on_[i] : c_off_[i];
+      const float c = (dl > 0 ? c_on_[i] : c_off_[i]) * contrast_scale;  // exact when the scale is 1
       const int8_t polarity = dl > 0 ? 1 : -1;
       // Every crossing of ref ± C between L(t_a) and L(t_b), in order; L is linear in t in between.
       while (polarity > 0 ? (l_b - ref >= c) : (ref - l_b >= c)) {
@@ -132,6 +180,42 @@ EventSimStats EventSimulator::run(const Motion& motion, int64_t begin_ns, int64_
     const auto y = static_cast<uint16_t>(noise_rng.uniform() * h);
     hot.push_back({x, y, begin_ns + secondsToNs(noise_rng.exponential(config_.hot_pixel_rate_hz))});
   }
+  stats.hot_pixels = static_cast<int>(hot.size());
+  // Noise polarity: OFF when a uniform draw is below the OFF share (with share 0.5 the same draws as
+  // a fair coin).
+  const double off_share = 1.0 - config_.noise_on_fraction;
+  const auto noisePolarity = [&] { return noise_rng.uniform() < off_share ? int8_t{-1} : int8_t{1}; };
+
+  // Timestamp jitter: events wait in `pending` (sorted) until no later step can produce an earlier or
+  // equal jittered time. A step [t_a, t_b] yields original times >= t_a (a crossing right at the start
+  // rounds to t_a), so jittered times >= t_a - J with J the largest jitter; after the step ending at t_b,
+  // every pending event before t_b - J is final.
+  Random jitter_rng(seed_ ^ 0x4A49545445520000ULL);  // "JITTER"
+  const int64_t sigma_j = config_.time_jitter_ns;
+  const int64_t max_jitter = std::llround(3.0 * static_cast<double>(sigma_j));
+  std::vector<Event> pending, ready;
+  const auto deliver = [&](const std::vector<Event>& step, int64_t final_until) {
+    if (sigma_j == 0) {
+      if (!step.empty()) sink(step);
+      return;
+    }
+    const std::size_t old_size = pending.size();
+    for (Event e : step) {
+      double z = jitter_rng.normal();
+      while (std::fabs(z) > 3.0) z = jitter_rng.normal();  // truncated at 3σ
+      e.t_ns = std::clamp<int64_t>(e.t_ns + std::llround(z * static_cast<double>(sigma_j)), begin_ns, end_ns);
+      pending.push_back(e);
+    }
+    std::sort(pending.begin() + static_cast<std::ptrdiff_t>(old_size), pending.end(), eventLess);
+    std::inplace_merge(pending.begin(), pending.begin() + static_cast<std::ptrdiff_t>(old_size), pending.end(),
+                       eventLess);
+    const auto split = std::upper_bound(pending.begin(), pending.end(), final_until,
+                                        [](int64_t t, const Event& e) { return t < e.t_ns; });
+    if (split == pending.begin()) return;
+    ready.assign(pending.begin(), split);
+    pending.erase(pending.begin(), split);
+    sink(ready);
+  };
 
   std::vector<std::vector<Event>> buffers(static_cast<std::size_t>(threads));
   std::vector<uint64_t> drops(static_cast<std::size_t>(threads), 0);
@@ -167,20 +251,22 @@ EventSimStats EventSimulator::run(const Motion& motion, int64_t begin_ns, int64_
 
     // Render at t_b and generate events (rows split over threads; each thread owns its rows' state).
     const Renderer::Frame frame = renderer_.prepare(pose_b);
+    const auto contrast_scale =
+        static_cast<float>(contrastScale(0.5 * (durationSeconds(begin_ns, t_a) + durationSeconds(begin_ns, t_b))));
     if (threads == 1) {
       buffers[0].clear();
-      processRows(frame, t_a, t_b, 0, h, buffers[0], drops[0]);
+      processRows(frame, t_a, t_b, contrast_scale, 0, h, buffers[0], drops[0]);
     } else {
       std::vector<std::thread> workers;
       for (int k = 1; k < threads; ++k) {
         workers.emplace_back([&, k] {
           buffers[static_cast<std::size_t>(k)].clear();
-          processRows(frame, t_a, t_b, h * k / threads, h * (k + 1) / threads,
+          processRows(frame, t_a, t_b, contrast_scale, h * k / threads, h * (k + 1) / threads,
                       buffers[static_cast<std::size_t>(k)], drops[static_cast<std::size_t>(k)]);
         });
       }
       buffers[0].clear();
-      processRows(frame, t_a, t_b, 0, h / threads, buffers[0], drops[0]);
+      processRows(frame, t_a, t_b, contrast_scale, 0, h / threads, buffers[0], drops[0]);
       for (std::thread& worker : workers) worker.join();
     }
     step_events.clear();
@@ -189,22 +275,24 @@ EventSimStats EventSimulator::run(const Motion& motion, int64_t begin_ns, int64_
     while (next_noise_ns <= t_b) {
       const auto x = static_cast<uint16_t>(noise_rng.uniform() * w);
       const auto y = static_cast<uint16_t>(noise_rng.uniform() * h);
-      const int8_t p = noise_rng.uniform() < 0.5 ? int8_t{-1} : int8_t{1};
+      const int8_t p = noisePolarity();
       step_events.push_back(Event{next_noise_ns, x, y, p});
       next_noise_ns += std::max<int64_t>(1, secondsToNs(noise_rng.exponential(total_noise_rate)));
     }
+    const std::size_t background_end = step_events.size();
     for (HotPixel& hp : hot) {
       while (hp.next_ns <= t_b) {
-        step_events.push_back(
-            Event{hp.next_ns, hp.x, hp.y, noise_rng.uniform() < 0.5 ? int8_t{-1} : int8_t{1}});
+        step_events.push_back(Event{hp.next_ns, hp.x, hp.y, noisePolarity()});
         hp.next_ns += std::max<int64_t>(1, secondsToNs(noise_rng.exponential(config_.hot_pixel_rate_hz)));
       }
     }
+    stats.background_events += background_end - signal_events;
+    stats.hot_pixel_events += step_events.size() - background_end;
     stats.noise_events += step_events.size() - signal_events;
     std::sort(step_events.begin(), step_events.end(), eventLess);
     for (const Event& e : step_events) (e.polarity > 0 ? stats.on_events : stats.off_events) += 1;
     stats.events += step_events.size();
-    if (!step_events.empty()) sink(step_events);
+    deliver(step_events, t_b - max_jitter - 1);
 
     ++stats.render_steps;
     stats.min_step_ns = std::min(stats.min_step_ns, step);
@@ -223,6 +311,7 @@ EventSimStats EventSimulator::run(const Motion& motion, int64_t begin_ns, int64_
                     static_cast<int64_t>(static_cast<double>(dt) * std::min(2.0, grow)) + 1);
     }
   }
+  if (!pending.empty()) sink(pending);  // the rest of the jittered events (already sorted)
   for (uint64_t d : drops) stats.refractory_drops += d;
   if (stats.render_steps == 0) stats.min_step_ns = 0;
   stats.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();

@@ -53,7 +53,7 @@ StampedPose AnalyticMotion::pose(int64_t t_ns) const {
 }
 
 std::vector<std::string> motionPresetNames() {
-  return {"static", "rotation", "translation", "6dof", "fast-translation"};
+  return {"static", "rotation", "translation", "6dof", "fast-translation", "slow-start"};
 }
 
 bool isMotionPreset(const std::string& name) {
@@ -61,50 +61,113 @@ bool isMotionPreset(const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();
 }
 
-std::unique_ptr<Motion> makePresetMotion(const std::string& name, double duration_s) {
-  if (!(duration_s > 0) || !std::isfinite(duration_s)) {
-    throw std::invalid_argument(fmt::format("duration must be positive, got {}", duration_s));
-  }
-  const int64_t end_ns = secondsToNs(duration_s);
-  using V = Eigen::Vector3d;
-  using Q = Eigen::Quaterniond;
+namespace {
+
+using V = Eigen::Vector3d;
+using Q = Eigen::Quaterniond;
+
+// slow-start: still for kStillS, then the time warp τ(t) with τ' rising from 0 to 1 over kRampS along
+// the quintic smootherstep 6x⁵ − 15x⁴ + 10x³ (so pose, velocity and acceleration stay continuous), then
+// τ' = 1: the 6dof preset at τ. Its integral: kRampS (x⁶ − 3x⁵ + 2.5x⁴), which is kRampS/2 at x = 1.
+constexpr double kStillS = 1.5;
+constexpr double kRampS = 1.0;
+
+double slowStartWarp(double t) {
+  if (t <= kStillS) return 0.0;
+  const double x = (t - kStillS) / kRampS;
+  if (x < 1.0) return kRampS * x * x * x * x * (x * x - 3 * x + 2.5);
+  return kRampS * 0.5 + (t - kStillS - kRampS);
+}
+
+/// The preset's pose as a function of the time since its phase 0, and its description.
+std::pair<AnalyticMotion::Function, std::string> presetFunction(const std::string& name) {
   if (name == "static") {
-    return std::make_unique<AnalyticMotion>("preset static (camera at rest)", 0, end_ns,
-                                            [](double, V& p, Q& q) {
-                                              p.setZero();
-                                              q.setIdentity();
-                                            });
+    return {[](double, V& p, Q& q) {
+              p.setZero();
+              q.setIdentity();
+            },
+            "preset static (camera at rest)"};
   }
   if (name == "rotation") {
     // Peak angular rate ~0.9 rad/s, rotation up to ~0.5 rad about each axis; no translation.
-    return std::make_unique<AnalyticMotion>("preset rotation", 0, end_ns, [](double t, V& p, Q& q) {
-      p.setZero();
-      q = expQ(rotationAngles(t, 1.0));
-    });
+    return {[](double t, V& p, Q& q) {
+              p.setZero();
+              q = expQ(rotationAngles(t, 1.0));
+            },
+            "preset rotation"};
   }
   if (name == "translation") {
     // Peak speed ~0.7 m/s (x), no rotation.
-    return std::make_unique<AnalyticMotion>("preset translation", 0, end_ns, [](double t, V& p, Q& q) {
-      p = translationOffsets(t, 1.0);
-      q.setIdentity();
-    });
+    return {[](double t, V& p, Q& q) {
+              p = translationOffsets(t, 1.0);
+              q.setIdentity();
+            },
+            "preset translation"};
   }
   if (name == "6dof") {
     // Both, at 70 % of the single-mode amplitudes.
-    return std::make_unique<AnalyticMotion>("preset 6dof", 0, end_ns, [](double t, V& p, Q& q) {
-      p = translationOffsets(t, 0.7);
-      q = expQ(rotationAngles(t, 0.7));
-    });
+    return {[](double t, V& p, Q& q) {
+              p = translationOffsets(t, 0.7);
+              q = expQ(rotationAngles(t, 0.7));
+            },
+            "preset 6dof"};
   }
   if (name == "fast-translation") {
     // Side to side along x at up to ~1.9 m/s (0.3 m amplitude, 1 Hz), for the high-speed experiments.
-    return std::make_unique<AnalyticMotion>("preset fast-translation", 0, end_ns, [](double t, V& p, Q& q) {
-      p = V(0.3 * std::sin(kTwoPi * 1.0 * t), 0.0, 0.0);
-      q.setIdentity();
-    });
+    return {[](double t, V& p, Q& q) {
+              p = V(0.3 * std::sin(kTwoPi * 1.0 * t), 0.0, 0.0);
+              q.setIdentity();
+            },
+            "preset fast-translation"};
+  }
+  if (name == "slow-start") {
+    // Nearly still for 1.5 s (a 0.2 mm / 0.1 mrad drift, far below a pixel), then a 1 s ramp into 6dof.
+    return {[](double t, V& p, Q& q) {
+              const double tau = slowStartWarp(t);
+              const V drift_p = 2e-4 * V(std::sin(kTwoPi * 0.13 * t), std::sin(kTwoPi * 0.21 * t + 1.0),
+                                         std::sin(kTwoPi * 0.17 * t + 2.0));
+              const V drift_r = 1e-4 * V(std::sin(kTwoPi * 0.11 * t + 0.3), std::sin(kTwoPi * 0.19 * t + 1.1),
+                                         std::sin(kTwoPi * 0.23 * t + 2.2));
+              p = translationOffsets(tau, 0.7) + drift_p;
+              q = expQ(rotationAngles(tau, 0.7)) * expQ(drift_r);
+            },
+            "preset slow-start (still 1.5 s with a 0.2 mm drift, 1 s ramp into 6dof)"};
   }
   throw std::invalid_argument(
       fmt::format("unknown motion preset '{}' (presets: {})", name, fmt::join(motionPresetNames(), ", ")));
+}
+
+}  // namespace
+
+std::unique_ptr<Motion> makePresetMotion(const std::string& name, double duration_s, double start_s) {
+  if (!(duration_s > 0) || !std::isfinite(duration_s)) {
+    throw std::invalid_argument(fmt::format("duration must be positive, got {}", duration_s));
+  }
+  if (!(start_s >= 0) || !std::isfinite(start_s)) {
+    throw std::invalid_argument(fmt::format("--start must not be negative, got {}", start_s));
+  }
+  const int64_t end_ns = secondsToNs(duration_s);
+  auto [function, description] = presetFunction(name);
+  if (start_s == 0) return std::make_unique<AnalyticMotion>(description, 0, end_ns, function);
+  // Phase shift by start_s, re-based so the first pose is the preset's pose at phase 0:
+  //   T(t) = T_f(0) T_f(S)⁻¹ T_f(t + S).
+  V p0, pS;
+  Q q0, qS;
+  function(0.0, p0, q0);
+  function(start_s, pS, qS);
+  q0.normalize();
+  qS.normalize();
+  const Q q_rebase = q0 * qS.conjugate();
+  const V p_rebase = p0 - q_rebase * pS;
+  return std::make_unique<AnalyticMotion>(
+      fmt::format("{} from {} s", description, start_s), 0, end_ns,
+      [function = function, q_rebase, p_rebase, start_s](double t, V& p, Q& q) {
+        V pt;
+        Q qt;
+        function(t + start_s, pt, qt);
+        p = p_rebase + q_rebase * pt;
+        q = q_rebase * qt.normalized();
+      });
 }
 
 // ---- spline motion ----------------------------------------------------------------------------------

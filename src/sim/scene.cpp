@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -42,7 +43,23 @@ std::vector<Eigen::Vector3d> borderRays(const CameraModel& camera) {
 }  // namespace
 
 std::vector<std::string> sceneNames() {
-  return {"shapes", "checkerboard", "stripes", "blobs", "poster", "boxes", "room"};
+  return {"shapes", "checkerboard", "stripes", "blobs", "poster", "boxes", "room", "photo", "photo-room", "sparse"};
+}
+
+std::string photoDirectory() {
+  const char* env = std::getenv("ASYNEVO_IMAGE_DIR");
+  return env && *env ? std::string(env) : std::string(kDefaultPhotoDirectory);
+}
+
+std::string photoPath(const std::string& file) {
+  const std::filesystem::path path = std::filesystem::path(photoDirectory()) / file;
+  if (!std::filesystem::is_regular_file(path)) {
+    throw InputError(path.string(),
+                     "missing image for the photo scenes: install Debian's python3-skimage "
+                     "(apt-get install python3-skimage) or set ASYNEVO_IMAGE_DIR to a folder that holds " +
+                         file);
+  }
+  return path.string();
 }
 
 bool isBuiltinScene(const std::string& name) {
@@ -112,9 +129,16 @@ Scene makeBuiltinScene(const std::string& name, const Motion& motion, const Came
   TextureOptions tex;
   tex.seed = seed;
   if (name == "shapes" || name == "checkerboard" || name == "stripes" || name == "blobs" ||
-      name == "poster") {
+      name == "poster" || name == "photo" || name == "sparse") {
     std::shared_ptr<const Texture> texture;
     if (name == "shapes") texture = makeShapesTexture(tex);
+    // A real photograph (CC0 gravel, docs/simulator.md §Photographs), 1 m per image: pebbles ~3 cm.
+    if (name == "photo") texture = loadPhotoTexture(photoPath("gravel.png"), 1.0);
+    if (name == "sparse") {
+      TextureOptions sparse_tex = tex;
+      sparse_tex.tile_m = 2.0;
+      texture = makeSparseShapesTexture(sparse_tex, 2.0, 0.4);  // ~6 polygons, ~25 corners in a DAVIS240C view
+    }
     if (name == "checkerboard") texture = makeCheckerboardTexture(tex, 0.1);
     if (name == "stripes") texture = makeStripesTexture(tex, 0.1);
     if (name == "blobs") texture = makeBlobsTexture(tex);
@@ -180,7 +204,7 @@ Scene makeBuiltinScene(const std::string& name, const Motion& motion, const Came
         2 * wall.half_width, 2 * wall.half_height);
     return scene;
   }
-  if (name == "room") {
+  if (name == "room" || name == "photo-room") {
     // Sized from the motion: its bounding box plus 1.5 m on every side (DESIGN.md §5), at least 4 m wide.
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
     for (const StampedPose& pose : coarseSamples(motion)) {
@@ -195,12 +219,20 @@ Scene makeBuiltinScene(const std::string& name, const Motion& motion, const Came
     TextureOptions floor_tex = tex;
     floor_tex.tile_m = 2.0;
     floor_tex.seed = seed + 1;
-    const std::vector<std::shared_ptr<const Texture>> textures = {
-        makeShapesTexture(wall_tex), makeBlobsTexture(wall_tex),   makeCheckerboardTexture(floor_tex, 0.25),
-        makeBlobsTexture(floor_tex), makeShapesTexture(floor_tex), makeCheckerboardTexture(wall_tex, 0.125)};
+    std::vector<std::shared_ptr<const Texture>> textures;
+    if (name == "room") {
+      textures = {makeShapesTexture(wall_tex), makeBlobsTexture(wall_tex),   makeCheckerboardTexture(floor_tex, 0.25),
+                  makeBlobsTexture(floor_tex), makeShapesTexture(floor_tex), makeCheckerboardTexture(wall_tex, 0.125)};
+    } else {
+      // Real photographs (docs/simulator.md §Photographs): textures 1 m per image, photos 1.5 m.
+      textures = {loadPhotoTexture(photoPath("gravel.png"), 1.0),    loadPhotoTexture(photoPath("brick.png"), 1.0),
+                  loadPhotoTexture(photoPath("grass.png"), 1.0),     loadPhotoTexture(photoPath("coffee.png"), 1.5),
+                  loadPhotoTexture(photoPath("camera.png"), 1.5),    loadPhotoTexture(photoPath("astronaut.png"), 1.5)};
+    }
     scene.planes = boxFaces("room", center, Eigen::Matrix3d::Identity(), half, textures);
-    scene.description = fmt::format("room: {:.1f} x {:.1f} x {:.1f} m textured box around the motion",
-                                    2 * half.x(), 2 * half.y(), 2 * half.z());
+    scene.description =
+        fmt::format("{}: {:.1f} x {:.1f} x {:.1f} m {} box around the motion", name, 2 * half.x(), 2 * half.y(),
+                    2 * half.z(), name == "room" ? "textured" : "photo-textured");
     return scene;
   }
   throw std::invalid_argument(

@@ -17,6 +17,7 @@
 #include "asynevo/io/event_file.hpp"
 #include "asynevo/io/trajectory_io.hpp"
 #include "asynevo/sim/scene.hpp"
+#include "asynevo/sim/sensor.hpp"
 
 namespace asynevo::sim {
 
@@ -100,20 +101,21 @@ class EventTextWriter {
 
 std::unique_ptr<Motion> makeMotion(const SimulationSpec& spec) {
   if (spec.duration_s < 0 || !std::isfinite(spec.duration_s)) {
-    throw std::invalid_argument(fmt::format("duration must not be negative, got {}", spec.duration_s));
+    throw std::invalid_argument(fmt::format("duration (--duration) must not be negative, got {}", spec.duration_s));
+  }
+  if (spec.start_offset_s < 0 || !std::isfinite(spec.start_offset_s)) {
+    throw std::invalid_argument(
+        fmt::format("start offset (--start) must not be negative, got {}", spec.start_offset_s));
   }
   if (isMotionPreset(spec.motion)) {
-    return makePresetMotion(spec.motion, spec.duration_s > 0 ? spec.duration_s : kDefaultPresetDurationS);
+    return makePresetMotion(spec.motion, spec.duration_s > 0 ? spec.duration_s : kDefaultPresetDurationS,
+                            spec.start_offset_s);
   }
   if (!std::filesystem::exists(spec.motion)) {
     throw InputError(spec.motion,
                      fmt::format("no such motion file (presets: {})", fmt::join(motionPresetNames(), ", ")));
   }
   MotionFileOptions options = spec.motion_file;
-  if (spec.start_offset_s < 0 || !std::isfinite(spec.start_offset_s)) {
-    throw std::invalid_argument(
-        fmt::format("start offset must not be negative, got {}", spec.start_offset_s));
-  }
   if (spec.duration_s > 0 || spec.start_offset_s > 0) {
     // Window [first pose + offset, ... + duration]: the file's first time is needed first.
     const StampedTrajectory samples = readTumTrajectory(spec.motion);
@@ -125,9 +127,27 @@ std::unique_ptr<Motion> makeMotion(const SimulationSpec& spec) {
   return loadMotionFile(spec.motion, options);
 }
 
+CameraModel specCamera(const SimulationSpec& spec) {
+  return spec.camera ? *spec.camera : sensorPresetCamera(spec.sensor_preset);
+}
+
 SimulationResult simulateToFolder(const SimulationSpec& spec, const std::string& out_dir,
                                   const std::function<void(int64_t, uint64_t)>& progress) {
-  const CameraModel camera = spec.camera ? *spec.camera : CameraModel::davis240cEcd();
+  const CameraModel camera = specCamera(spec);
+  if (!spec.write_text && !spec.write_binary) {
+    throw std::invalid_argument(
+        "--no-text needs --binary: without events.txt the folder must hold events.aevt");
+  }
+  if (spec.max_step_motion_px < 0 || !std::isfinite(spec.max_step_motion_px)) {
+    throw std::invalid_argument(fmt::format(
+        "the render step's image motion (--max-step-motion) must be positive, got {}", spec.max_step_motion_px));
+  }
+  EventSimConfig sensor = spec.sensor;
+  sensor.max_pixel_motion = spec.max_step_motion_px > 0 ? spec.max_step_motion_px : defaultMaxStepMotion(camera);
+  // The ECD text format and calib.txt imply a 240x180 sensor: other sizes get events.aevt (its header
+  // holds the size) and only camchain.yaml (with the resolution), so every reader gets the size right.
+  const bool ecd_size = camera.width() == 240 && camera.height() == 180;
+  const bool write_binary = spec.write_binary || !ecd_size;
   const std::unique_ptr<Motion> motion = makeMotion(spec);
   Scene scene;
   if (isBuiltinScene(spec.scene)) {
@@ -152,7 +172,12 @@ SimulationResult simulateToFolder(const SimulationSpec& spec, const std::string&
   result.end_ns = motion->endNs();
 
   // Calibration.
-  if (camera.distortionModel() != DistortionModel::kEquidistant)
+  // Files of an earlier simulation into the same folder that this one does not write would be read
+  // in place of this one's (the loaders pick calib.txt and events.aevt first): remove them.
+  std::filesystem::remove(dir / "calib.txt", ec);
+  std::filesystem::remove(dir / "events.aevt", ec);
+  std::filesystem::remove(dir / "events.txt", ec);
+  if (camera.distortionModel() != DistortionModel::kEquidistant && ecd_size)
     writeEcdCalibration((dir / "calib.txt").string(), camera);
   writeKalibrCalibration((dir / "camchain.yaml").string(), camera);
 
@@ -165,9 +190,10 @@ SimulationResult simulateToFolder(const SimulationSpec& spec, const std::string&
   result.groundtruth_poses = gt.size();
 
   // Events (and frames).
-  EventTextWriter text((dir / "events.txt").string());
+  std::unique_ptr<EventTextWriter> text;
+  if (spec.write_text) text = std::make_unique<EventTextWriter>((dir / "events.txt").string());
   std::unique_ptr<EventFileWriter> binary;
-  if (spec.write_binary)
+  if (write_binary)
     binary =
         std::make_unique<EventFileWriter>((dir / "events.aevt").string(), camera.width(), camera.height());
   std::ofstream images_txt;
@@ -179,9 +205,10 @@ SimulationResult simulateToFolder(const SimulationSpec& spec, const std::string&
       throw Error(fmt::format("{}: cannot open file for writing", (dir / "images.txt").string()));
   }
   uint64_t total = 0;
-  EventSimulator simulator(camera, scene, spec.sensor, spec.seed);
+  EventSimulator simulator(camera, scene, sensor, spec.seed);
   const auto sink = [&](const std::vector<Event>& events) {
-    for (const Event& e : events) text.write(e);
+    if (text)
+      for (const Event& e : events) text->write(e);
     if (binary) binary->write(events.data(), events.size());
     total += events.size();
     if (progress) progress(events.back().t_ns, total);
@@ -205,27 +232,34 @@ SimulationResult simulateToFolder(const SimulationSpec& spec, const std::string&
   };
   result.stats = simulator.run(*motion, motion->beginNs(), motion->endNs(), sink, frame_period,
                                frame_period > 0 ? EventSimulator::FrameSink(frame_sink) : nullptr);
-  text.close();
+  if (text) text->close();
   if (binary) binary->close();
 
   // What was simulated.
   std::ofstream meta(dir / "sim.yaml");
-  const EventSimConfig& c = spec.sensor;
-  const EventSimStats& s = result.stats;
+  const EventSimConfig& c = sensor;
+  const EventSimStats& st = result.stats;
   meta << fmt::format(
       "# asynevo simulate: what produced this folder\n"
       "scene: \"{}\"\nscene_description: \"{}\"\nmotion: \"{}\"\nmotion_description: \"{}\"\nseed: {}\n"
-      "begin_s: {:.9f}\nend_s: {:.9f}\ncamera: \"{}\"\n"
-      "sensor:\n  contrast: {}\n  contrast_sigma: {}\n  log_epsilon: {}\n  refractory_us: {}\n"
-      "  noise_rate_hz: {}\n  hot_pixels: {}\n  hot_pixel_rate_hz: {}\n  max_pixel_motion: {}\n"
+      "start_offset_s: {}\nbegin_s: {:.9f}\nend_s: {:.9f}\nsensor_preset: \"{}\"\ncamera: \"{}\"\n"
+      "sensor:\n  contrast: {}\n  contrast_sigma: {}\n  contrast_drift: {}\n  log_epsilon: {}\n"
+      "  refractory_us: {}\n  max_pixel_motion: {}\n"
+      "noise:\n  level: \"{}\"\n  background_rate_hz: {}\n  on_fraction: {}\n  hot_pixels: {}\n"
+      "  hot_pixel_rate_hz: {}\n  time_jitter_us: {}\n"
       "groundtruth_rate_hz: {}\nframe_rate_hz: {}\n"
-      "stats:\n  events: {}\n  on_events: {}\n  off_events: {}\n  noise_events: {}\n  refractory_drops: {}\n"
+      "files:\n  events_txt: {}\n  events_aevt: {}\n"
+      "stats:\n  events: {}\n  on_events: {}\n  off_events: {}\n  noise_events: {}\n  background_events: {}\n"
+      "  hot_pixel_events: {}\n  refractory_drops: {}\n"
       "  render_steps: {}\n  min_step_us: {:.3f}\n  max_step_us: {:.3f}\n  max_step_motion_px: {:.4f}\n",
-      spec.scene, scene.description, spec.motion, motion->describe(), spec.seed, nsToSeconds(result.begin_ns),
-      nsToSeconds(result.end_ns), camera.summary(), c.contrast, c.contrast_sigma, c.log_epsilon,
-      c.refractory_ns / 1e3, c.noise_rate_hz, c.hot_pixels, c.hot_pixel_rate_hz, c.max_pixel_motion,
-      spec.groundtruth_rate_hz, spec.frame_rate_hz, s.events, s.on_events, s.off_events, s.noise_events,
-      s.refractory_drops, s.render_steps, s.min_step_ns / 1e3, s.max_step_ns / 1e3, s.max_step_motion_px);
+      spec.scene, scene.description, spec.motion, motion->describe(), spec.seed, spec.start_offset_s,
+      nsToSeconds(result.begin_ns), nsToSeconds(result.end_ns), spec.camera ? "custom" : spec.sensor_preset,
+      camera.summary(), c.contrast, c.contrast_sigma, c.contrast_drift, c.log_epsilon, c.refractory_ns / 1e3,
+      c.max_pixel_motion, spec.noise_level, c.noise_rate_hz, c.noise_on_fraction, st.hot_pixels,
+      c.hot_pixel_rate_hz, static_cast<double>(c.time_jitter_ns) / 1e3, spec.groundtruth_rate_hz,
+      spec.frame_rate_hz, spec.write_text, write_binary, st.events, st.on_events, st.off_events, st.noise_events,
+      st.background_events, st.hot_pixel_events, st.refractory_drops, st.render_steps, st.min_step_ns / 1e3,
+      st.max_step_ns / 1e3, st.max_step_motion_px);
   if (!meta) throw Error(fmt::format("{}: write failed", (dir / "sim.yaml").string()));
   return result;
 }

@@ -136,6 +136,27 @@ float Texture::sample(double u_m, double v_m, double footprint_m) const {
   return c0 + a * (c1 - c0);
 }
 
+namespace {
+
+/// Draws a filled polygon (corners relative to its centre, metres) centred at (cx, cy) on a canvas of
+/// `px_per_m`, with its copies shifted by one tile so the texture wraps seamlessly.
+void drawWrapped(cv::Mat& canvas, const std::vector<cv::Point2d>& corners, double cx, double cy, double tile_m,
+                 double px_per_m, double grey) {
+  for (int sx = -1; sx <= 1; ++sx) {
+    for (int sy = -1; sy <= 1; ++sy) {
+      std::vector<cv::Point> poly;
+      for (const cv::Point2d& c : corners) {
+        // 8 fractional bits (fillPoly's shift) for sub-pixel corner positions.
+        poly.emplace_back(static_cast<int>(std::lround((cx + c.x + sx * tile_m) * px_per_m * 256)),
+                          static_cast<int>(std::lround((cy + c.y + sy * tile_m) * px_per_m * 256)));
+      }
+      cv::fillPoly(canvas, std::vector<std::vector<cv::Point>>{poly}, cv::Scalar(grey), cv::LINE_8, 8);
+    }
+  }
+}
+
+}  // namespace
+
 std::shared_ptr<const Texture> makeShapesTexture(const TextureOptions& options) {
   if (!isPowerOfTwo(options.texels)) throw std::invalid_argument("texture size must be a power of two");
   const int n = options.texels;
@@ -167,23 +188,62 @@ std::shared_ptr<const Texture> makeShapesTexture(const TextureOptions& options) 
         corners.emplace_back(radius * std::cos(a), radius * std::sin(a));
       }
     }
-    // Draw the shape and its copies shifted by one tile so the texture wraps seamlessly.
-    for (int sx = -1; sx <= 1; ++sx) {
-      for (int sy = -1; sy <= 1; ++sy) {
-        std::vector<cv::Point> poly;
-        for (const cv::Point2d& c : corners) {
-          // 8 fractional bits (fillPoly's shift) for sub-pixel corner positions.
-          poly.emplace_back(static_cast<int>(std::lround((cx + c.x + sx * options.tile_m) * px_per_m * 256)),
-                            static_cast<int>(std::lround((cy + c.y + sy * options.tile_m) * px_per_m * 256)));
-        }
-        cv::fillPoly(canvas, std::vector<std::vector<cv::Point>>{poly}, cv::Scalar(grey), cv::LINE_8, 8);
-      }
-    }
+    drawWrapped(canvas, corners, cx, cy, options.tile_m, px_per_m, grey);
   }
   cv::Mat small;
   cv::resize(canvas, small, cv::Size(n, n), 0, 0, cv::INTER_AREA);
   return std::make_shared<Texture>(matToVector(small), n, n, options.tile_m / n, true,
                                    fmt::format("shapes (tile {} m, seed {})", options.tile_m, options.seed));
+}
+
+std::shared_ptr<const Texture> makeSparseShapesTexture(const TextureOptions& options, double per_m2,
+                                                       double min_separation_m) {
+  if (!isPowerOfTwo(options.texels)) throw std::invalid_argument("texture size must be a power of two");
+  if (!(per_m2 > 0) || !(min_separation_m >= 0))
+    throw std::invalid_argument("sparse shapes need a positive density and a non-negative separation");
+  const int n = options.texels;
+  const int big = n * kSupersample;
+  const double tile = options.tile_m;
+  const double px_per_m = big / tile;
+  cv::Mat canvas(big, big, CV_32F, cv::Scalar(0.9));
+  Random rng(options.seed ^ 0x5350415253450000ULL);  // "SPARSE"
+  const int count = std::max(1, static_cast<int>(std::lround(per_m2 * tile * tile)));
+  // Dart throwing: centres at least min_separation_m apart, distances measured across the tile's wrap.
+  std::vector<cv::Point2d> centres;
+  for (int attempt = 0; attempt < 10000 && static_cast<int>(centres.size()) < count; ++attempt) {
+    const cv::Point2d c(rng.uniform() * tile, rng.uniform() * tile);
+    bool free = true;
+    for (const cv::Point2d& o : centres) {
+      double dx = std::fabs(c.x - o.x), dy = std::fabs(c.y - o.y);
+      dx = std::min(dx, tile - dx);
+      dy = std::min(dy, tile - dy);
+      if (dx * dx + dy * dy < min_separation_m * min_separation_m) {
+        free = false;
+        break;
+      }
+    }
+    if (free) centres.push_back(c);
+  }
+  for (const cv::Point2d& c : centres) {
+    const double radius = 0.05 + 0.05 * rng.uniform();  // 10-20 cm across
+    const double grey = 0.05 + 0.3 * rng.uniform();
+    const int corners_n = 3 + static_cast<int>(rng.uniform() * 4);  // polygons of 3..6 corners
+    const double rotation = rng.uniform() * 2 * kPi;
+    std::vector<cv::Point2d> corners;
+    for (int i = 0; i < corners_n; ++i) {
+      // Irregular polygons: corner angles and radii perturbed, so corners are not all alike.
+      const double a = rotation + 2 * kPi * (i + 0.3 * (rng.uniform() - 0.5)) / corners_n;
+      const double r = radius * (0.75 + 0.25 * rng.uniform());
+      corners.emplace_back(r * std::cos(a), r * std::sin(a));
+    }
+    drawWrapped(canvas, corners, c.x, c.y, tile, px_per_m, grey);
+  }
+  cv::Mat small;
+  cv::resize(canvas, small, cv::Size(n, n), 0, 0, cv::INTER_AREA);
+  return std::make_shared<Texture>(
+      matToVector(small), n, n, tile / n, true,
+      fmt::format("sparse shapes ({} polygons per {} m tile, >= {} m apart, seed {})", centres.size(), tile,
+                  min_separation_m, options.seed));
 }
 
 std::shared_ptr<const Texture> makeCheckerboardTexture(const TextureOptions& options, double square_m) {
@@ -282,6 +342,25 @@ std::shared_ptr<const Texture> loadImageTexture(const std::string& path, double 
   return std::make_shared<Texture>(
       matToVector(f), f.cols, f.rows, width_m / f.cols, false,
       fmt::format("image {} ({}x{} px, {} m wide)", path, f.cols, f.rows, width_m));
+}
+
+std::shared_ptr<const Texture> loadPhotoTexture(const std::string& path, double image_width_m) {
+  const cv::Mat image = cv::imread(path, cv::IMREAD_GRAYSCALE);
+  if (image.empty()) throw InputError(path, "cannot read image (not found or not a format OpenCV reads)");
+  if (!(image_width_m > 0)) throw std::invalid_argument("image texture width must be positive");
+  cv::Mat f;
+  image.convertTo(f, CV_32F, 0.9 / 255.0, 0.05);  // [0, 255] -> [0.05, 0.95]
+  // Mirror tile [I, flip_x(I); flip_y(I), flip_xy(I)]: periodic without seams.
+  cv::Mat right, bottom, corner, top_row, bottom_row, tile;
+  cv::flip(f, right, 1);
+  cv::flip(f, bottom, 0);
+  cv::flip(f, corner, -1);
+  cv::hconcat(f, right, top_row);
+  cv::hconcat(bottom, corner, bottom_row);
+  cv::vconcat(top_row, bottom_row, tile);
+  return std::make_shared<Texture>(
+      matToVector(tile), tile.cols, tile.rows, image_width_m / f.cols, true,
+      fmt::format("photo {} ({}x{} px, {} m wide, mirror-tiled)", path, f.cols, f.rows, image_width_m));
 }
 
 }  // namespace asynevo::sim

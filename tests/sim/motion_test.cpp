@@ -48,6 +48,77 @@ TEST(MotionPresets, RotationOnlyAndTranslationOnly) {
   EXPECT_GT(max_offset, 0.1);
 }
 
+// --start S shows the preset's motion from S on, re-based to the preset's usual first pose: the relative
+// motion between any two times equals the unshifted preset's between those times + S.
+TEST(MotionPresets, StartOffsetShiftsThePhaseAndKeepsTheFirstPose) {
+  for (const std::string& name : {std::string("6dof"), std::string("rotation"), std::string("slow-start")}) {
+    const auto plain = makePresetMotion(name, 10.0);
+    const auto shifted = makePresetMotion(name, 4.0, 3.0);
+    EXPECT_EQ(shifted->beginNs(), 0);
+    EXPECT_EQ(shifted->endNs(), 4'000'000'000);
+    const StampedPose first = shifted->pose(0), first_plain = plain->pose(0);
+    EXPECT_LT((first.p_w_c - first_plain.p_w_c).norm(), 1e-12) << name;
+    EXPECT_LT(angleBetween(first.q_w_c, first_plain.q_w_c), 1e-12) << name;
+    const StampedPose a_plain = plain->pose(3'000'000'000);
+    for (int64_t t = 0; t <= 4'000'000'000; t += 250'000'000) {
+      // T(0)⁻¹ T(t) of the shifted motion = T_f(S)⁻¹ T_f(t + S) of the plain one.
+      const StampedPose b = shifted->pose(t), b_plain = plain->pose(t + 3'000'000'000);
+      const Eigen::Quaterniond rel = first.q_w_c.conjugate() * b.q_w_c;
+      const Eigen::Quaterniond rel_plain = a_plain.q_w_c.conjugate() * b_plain.q_w_c;
+      const Eigen::Vector3d d = first.q_w_c.conjugate() * (b.p_w_c - first.p_w_c);
+      const Eigen::Vector3d d_plain = a_plain.q_w_c.conjugate() * (b_plain.p_w_c - a_plain.p_w_c);
+      ASSERT_LT(angleBetween(rel, rel_plain), 1e-12) << name << " t " << t;
+      ASSERT_LT((d - d_plain).norm(), 1e-12) << name << " t " << t;
+    }
+    EXPECT_NE(shifted->describe().find("from 3 s"), std::string::npos) << shifted->describe();
+  }
+  // Start 0 is the plain preset, to the bit.
+  const auto zero = makePresetMotion("6dof", 2.0, 0.0);
+  const auto plain = makePresetMotion("6dof", 2.0);
+  for (int64_t t = 0; t <= 2'000'000'000; t += 100'000'000) {
+    EXPECT_TRUE(zero->pose(t).p_w_c == plain->pose(t).p_w_c);
+    EXPECT_TRUE(zero->pose(t).q_w_c.coeffs() == plain->pose(t).q_w_c.coeffs());
+  }
+  EXPECT_THROW(makePresetMotion("6dof", 2.0, -1.0), std::invalid_argument);
+}
+
+// slow-start: nearly still (sub-millimetre, sub-milliradian) for 1.5 s, then a smooth ramp into 6dof.
+TEST(MotionPresets, SlowStartIsStillFirstAndMovesLater) {
+  const auto motion = makePresetMotion("slow-start", 5.0);
+  const auto sixdof = makePresetMotion("6dof", 5.0);
+  const StampedPose start = motion->pose(0);
+  double still_offset = 0, still_angle = 0;
+  for (int64_t t = 0; t <= 1'500'000'000; t += 10'000'000) {
+    const StampedPose p = motion->pose(t);
+    still_offset = std::max(still_offset, (p.p_w_c - start.p_w_c).norm());
+    still_angle = std::max(still_angle, angleBetween(p.q_w_c, start.q_w_c));
+  }
+  EXPECT_LT(still_offset, 1e-3);
+  EXPECT_LT(still_angle, 1e-3);
+  // Speeds over 10 ms: tiny while still, then like the 6dof preset's (peak ~0.5 m/s) after the ramp.
+  const auto speed = [](const Motion& m, int64_t t) {
+    return (m.pose(t + 10'000'000).p_w_c - m.pose(t).p_w_c).norm() / 0.01;
+  };
+  double still_speed = 0, late_speed = 0, sixdof_speed = 0;
+  for (int64_t t = 0; t < 1'500'000'000; t += 10'000'000) still_speed = std::max(still_speed, speed(*motion, t));
+  for (int64_t t = 2'500'000'000; t < 4'990'000'000; t += 10'000'000) late_speed = std::max(late_speed, speed(*motion, t));
+  for (int64_t t = 0; t < 2'490'000'000; t += 10'000'000) sixdof_speed = std::max(sixdof_speed, speed(*sixdof, t));
+  EXPECT_LT(still_speed, 2e-3);
+  EXPECT_GT(late_speed, 0.2);
+  EXPECT_NEAR(late_speed, sixdof_speed, 0.05);  // after the ramp: 6dof from its phase 0, shifted by 2 s
+  // After the ramp the motion is the 6dof preset at τ = t - 2 s (plus the 0.2 mm drift).
+  for (int64_t t = 2'500'000'000; t <= 5'000'000'000; t += 250'000'000) {
+    const StampedPose p = motion->pose(t), q = sixdof->pose(t - 2'000'000'000);
+    ASSERT_LT((p.p_w_c - q.p_w_c).norm(), 1e-3);
+    ASSERT_LT(angleBetween(p.q_w_c, q.q_w_c), 1e-3);
+  }
+  // The ramp is smooth: no velocity jump between 10 ms samples.
+  double worst_jump = 0;
+  for (int64_t t = 1'400'000'000; t < 2'700'000'000; t += 10'000'000)
+    worst_jump = std::max(worst_jump, std::fabs(speed(*motion, t + 10'000'000) - speed(*motion, t)));
+  EXPECT_LT(worst_jump, 0.02);
+}
+
 // Without smoothing, the spline through densely sampled smooth poses reproduces them closely (the
 // cubic B-spline's approximation error at 5 ms knots is O(Δ² p'') ~ 1e-5 m here).
 TEST(SplineMotion, ReproducesASmoothTrajectory) {

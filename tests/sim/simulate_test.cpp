@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 
 #include "asynevo/core/error.hpp"
@@ -11,6 +13,7 @@
 #include "asynevo/io/trajectory_io.hpp"
 #include "asynevo/lie/so3.hpp"
 #include "asynevo/sim/scene.hpp"
+#include "asynevo/sim/sensor.hpp"
 #include "sim_test_util.hpp"
 
 namespace asynevo::sim {
@@ -169,7 +172,7 @@ TEST(SimulateToFolder, UnknownSceneOrMotionIsAnInputError) {
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),
               "castle: no such scene file (built-in scenes: shapes, checkerboard, stripes, blobs, poster, "
-              "boxes, room)");
+              "boxes, room, photo, photo-room, sparse)");
   }
   spec.scene = "shapes";
   spec.motion = "loop";
@@ -178,7 +181,117 @@ TEST(SimulateToFolder, UnknownSceneOrMotionIsAnInputError) {
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),
-              "loop: no such motion file (presets: static, rotation, translation, 6dof, fast-translation)");
+              "loop: no such motion file (presets: static, rotation, translation, 6dof, fast-translation, "
+              "slow-start)");
+  }
+}
+
+TEST(SimulateToFolder, NoTextNeedsBinaryAndWritesOnlyTheBinaryFile) {
+  TempDir dir;
+  SimulationSpec spec;
+  spec.scene = "shapes";
+  spec.motion = "6dof";
+  spec.duration_s = 0.1;
+  spec.write_text = false;
+  try {
+    simulateToFolder(spec, dir.file("out"));
+    ADD_FAILURE() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), "--no-text needs --binary: without events.txt the folder must hold events.aevt");
+  }
+  spec.write_binary = true;
+  const SimulationResult r = simulateToFolder(spec, dir.file("out"));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("out/events.txt")));
+  EXPECT_EQ(readAllEvents(dir.file("out/events.aevt")).size(), r.stats.events);
+  // A second run into the same folder without --binary replaces it: no stale events.aevt is left behind.
+  spec.write_binary = false;
+  spec.write_text = true;
+  simulateToFolder(spec, dir.file("out"));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("out/events.aevt")));
+}
+
+// The noise settings and the count of each noise kind are in sim.yaml.
+TEST(SimulateToFolder, SimYamlHoldsTheNoiseSettingsAndCounts) {
+  TempDir dir;
+  SimulationSpec spec;
+  spec.scene = "shapes";
+  spec.motion = "static";
+  spec.duration_s = 0.5;
+  spec.noise_level = "medium";
+  applyNoiseLevel(spec.noise_level, 240, 180, spec.sensor);
+  spec.sensor.hot_pixels = 3;
+  const SimulationResult r = simulateToFolder(spec, dir.file("out"));
+  EXPECT_GT(r.stats.background_events, 0u);
+  EXPECT_GT(r.stats.hot_pixel_events, 0u);
+  const std::string yaml = testing::readBytes(dir.file("out/sim.yaml"));
+  for (const std::string& line :
+       {std::string("  level: \"medium\"\n"), std::string("  background_rate_hz: 0.5\n"),
+        std::string("  on_fraction: 0.7\n"), std::string("  hot_pixels: 3\n"), std::string("  hot_pixel_rate_hz: 200\n"),
+        std::string("  time_jitter_us: 20\n"), std::string("  contrast_drift: 0.03\n"),
+        std::string("  contrast_sigma: 0.05\n"), std::string("sensor_preset: \"davis240c\"\n"),
+        "  background_events: " + std::to_string(r.stats.background_events) + "\n",
+        "  hot_pixel_events: " + std::to_string(r.stats.hot_pixel_events) + "\n"}) {
+    EXPECT_NE(yaml.find(line), std::string::npos) << line << " not in\n" << yaml;
+  }
+}
+
+// A preset with a start offset through the whole chain: the ground truth is the shifted motion.
+TEST(SimulateToFolder, PresetWithStartOffset) {
+  TempDir dir;
+  SimulationSpec spec;
+  spec.scene = "shapes";
+  spec.motion = "6dof";
+  spec.duration_s = 0.2;
+  spec.start_offset_s = 2.0;
+  const SimulationResult r = simulateToFolder(spec, dir.file("out"));
+  EXPECT_EQ(r.begin_ns, 0);
+  EXPECT_EQ(r.end_ns, 200'000'000);
+  EXPECT_GT(r.stats.events, 1000u);
+  const StampedTrajectory gt = readTumTrajectory(dir.file("out/groundtruth.txt"));
+  const auto shifted = makePresetMotion("6dof", 0.2, 2.0);
+  for (const StampedPose& p : gt) ASSERT_LT((p.p_w_c - shifted->pose(p.t_ns).p_w_c).norm(), 1e-12);
+  EXPECT_NE(testing::readBytes(dir.file("out/sim.yaml")).find("start_offset_s: 2\n"), std::string::npos);
+}
+
+// The photo scenes need Debian's python3-skimage photographs; the error for a missing one names it.
+TEST(PhotoScenes, MissingImageNamesTheFileAndThePackage) {
+  TempDir dir;
+  const char* old = std::getenv("ASYNEVO_IMAGE_DIR");
+  const std::string saved = old ? old : "";
+  setenv("ASYNEVO_IMAGE_DIR", dir.file("").c_str(), 1);
+  const auto motion = makePresetMotion("6dof", 0.5);
+  std::string message = "no error";
+  try {
+    makeBuiltinScene("photo", *motion, CameraModel::davis240cEcd(), 1);
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  if (old) {
+    setenv("ASYNEVO_IMAGE_DIR", saved.c_str(), 1);
+  } else {
+    unsetenv("ASYNEVO_IMAGE_DIR");
+  }
+  EXPECT_NE(message.find("gravel.png"), std::string::npos) << message;
+  EXPECT_NE(message.find("python3-skimage"), std::string::npos) << message;
+  EXPECT_NE(message.find("ASYNEVO_IMAGE_DIR"), std::string::npos) << message;
+}
+
+TEST(PhotoScenes, PhotoAndPhotoRoomRender) {
+  for (const char* file : {"gravel.png", "brick.png", "grass.png", "coffee.png", "camera.png", "astronaut.png"}) {
+    if (!std::filesystem::exists(std::filesystem::path(photoDirectory()) / file))
+      GTEST_SKIP() << photoDirectory() << "/" << file
+                   << " is missing: the photo scenes need Debian's python3-skimage (or ASYNEVO_IMAGE_DIR)";
+  }
+  TempDir dir;
+  for (const char* scene : {"photo", "photo-room"}) {
+    SimulationSpec spec;
+    spec.scene = scene;
+    spec.motion = "6dof";
+    spec.duration_s = 0.1;
+    const SimulationResult r = simulateToFolder(spec, dir.file(scene));
+    std::printf("[ figure ] %s, 0.1 s of 6dof: %llu events; %s\n", scene,
+                static_cast<unsigned long long>(r.stats.events), r.scene_description.c_str());
+    EXPECT_GT(r.stats.events, 10'000u) << scene;
   }
 }
 

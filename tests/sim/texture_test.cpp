@@ -111,5 +111,66 @@ TEST(Texture, LoadsImageFiles) {
   }
 }
 
+TEST(Texture, PhotoTexturesAreMirrorTiledWithoutSeams) {
+  testing::TempDir dir;
+  cv::Mat image(16, 32, CV_8U);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 32; ++x) image.at<uint8_t>(y, x) = static_cast<uint8_t>(8 * x);
+  ASSERT_TRUE(cv::imwrite(dir.file("ramp.png"), image));
+  const auto t = loadPhotoTexture(dir.file("ramp.png"), 0.32);  // 1 cm texels
+  EXPECT_EQ(t->width(), 64);
+  EXPECT_EQ(t->height(), 32);
+  EXPECT_TRUE(t->repeats());
+  EXPECT_NEAR(t->sample(0.005, 0.05, 1e-4), 0.05f, 1e-6);                     // [0, 255] -> [0.05, 0.95]
+  EXPECT_NEAR(t->sample(0.315, 0.05, 1e-4), 0.05f + 0.9f * 248 / 255, 1e-6);  // right border of the image
+  EXPECT_NEAR(t->sample(0.325, 0.05, 1e-4), 0.05f + 0.9f * 248 / 255, 1e-6);  // its mirror: no seam
+  EXPECT_NEAR(t->sample(0.635, 0.05, 1e-4), 0.05f, 1e-6);                     // mirror's end meets the start
+  EXPECT_NEAR(t->sample(0.645, 0.05, 1e-4), 0.05f, 1e-6);
+  EXPECT_THROW(loadPhotoTexture(dir.file("missing.png"), 1.0), InputError);
+}
+
+// The sparse texture: the requested number of separate dark polygons on white, nothing else.
+TEST(Texture, SparseShapesAreFewAndSeparate) {
+  TextureOptions options;
+  options.tile_m = 2.0;
+  options.seed = 3;
+  const auto t = makeSparseShapesTexture(options, 2.0, 0.4);
+  const int n = t->width();
+  const std::vector<float>& px = t->pixels();
+  // Dark components (8-connected, across the wrap).
+  std::vector<int> label(px.size(), -1);
+  int components = 0;
+  std::size_t dark = 0;
+  std::vector<int> stack;
+  for (int start = 0; start < n * n; ++start) {
+    if (px[static_cast<std::size_t>(start)] > 0.6f || label[static_cast<std::size_t>(start)] >= 0) continue;
+    label[static_cast<std::size_t>(start)] = components;
+    stack.push_back(start);
+    while (!stack.empty()) {
+      const int i = stack.back();
+      stack.pop_back();
+      ++dark;
+      const int x = i % n, y = i / n;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int j = ((y + dy + n) % n) * n + (x + dx + n) % n;
+          if (px[static_cast<std::size_t>(j)] <= 0.6f && label[static_cast<std::size_t>(j)] < 0) {
+            label[static_cast<std::size_t>(j)] = components;
+            stack.push_back(j);
+          }
+        }
+      }
+    }
+    ++components;
+  }
+  const double dark_share = static_cast<double>(dark) / static_cast<double>(px.size());
+  std::printf("[ figure ] sparse texture, 2 m tile: %d polygons, %.2f %% dark; %s\n", components, 100 * dark_share,
+              t->description().c_str());
+  EXPECT_EQ(components, 8);  // 2 per m² on a 2 x 2 m tile, all separate
+  EXPECT_NE(t->description().find("8 polygons"), std::string::npos);
+  EXPECT_GT(dark_share, 0.005);
+  EXPECT_LT(dark_share, 0.06);
+}
+
 }  // namespace
 }  // namespace asynevo::sim

@@ -9,7 +9,9 @@
 //   * per-pixel thresholds C± ~ N(C, σ_C) (fixed per pixel, like transistor mismatch);
 //   * refractory period: an event closer than `refractory_ns` to the pixel's previous one is dropped
 //     (the reference still moves, as in ESIM);
-//   * optional background noise (Poisson, uniform over pixels, random polarity) and hot pixels.
+//   * optional noise of real sensors (docs/simulator_noise.md): background activity (Poisson, uniform
+//     over pixels, a chosen share of ON events), hot pixels, a slow common-mode drift of all thresholds
+//     and Gaussian timestamp jitter.
 // Deterministic for a seed; the result does not depend on the number of threads.
 
 #include <cstdint>
@@ -31,8 +33,15 @@ struct EventSimConfig {
   double log_epsilon = 0.01;        ///< ε in L = log(I + ε), I in [0, 1]
   int64_t refractory_ns = 100'000;  ///< 100 µs
   double noise_rate_hz = 0.0;       ///< background noise events per pixel per second (0 = off)
+  double noise_on_fraction = 0.5;   ///< share of ON events among background and hot-pixel events
   int hot_pixels = 0;               ///< number of hot pixels (0 = none)
   double hot_pixel_rate_hz = 50.0;  ///< events per second of each hot pixel
+  /// Amplitude D of a slow common-mode threshold drift: every threshold is C_pixel (1 + d(t)) with
+  /// d(t) = D/3 Σ_k sin(2π f_k t + φ_k), three seeded sinusoids with periods of 5-30 s; |d| <= D < 0.5.
+  double contrast_drift = 0.0;
+  /// σ of the Gaussian jitter (truncated at 3σ) added to every event's timestamp (0 = none). The output
+  /// stays time-ordered; jittered times are clamped to the simulated span.
+  int64_t time_jitter_ns = 0;
   double max_pixel_motion = 0.3;    ///< max image motion between renders (pixels)
   int64_t max_step_ns = 5'000'000;  ///< longest render step (5 ms)
   int64_t min_step_ns = 1'000;      ///< shortest render step (1 µs)
@@ -44,6 +53,9 @@ struct EventSimStats {
   uint64_t on_events = 0;
   uint64_t off_events = 0;
   uint64_t noise_events = 0;      ///< background noise and hot-pixel events (included in events)
+  uint64_t background_events = 0;  ///< background noise events (part of noise_events)
+  uint64_t hot_pixel_events = 0;   ///< hot-pixel events (part of noise_events)
+  int hot_pixels = 0;              ///< number of hot pixels simulated
   uint64_t refractory_drops = 0;  ///< crossings dropped by the refractory period
   uint64_t render_steps = 0;
   int64_t min_step_ns = 0;
@@ -66,9 +78,11 @@ class EventSimulator {
   EventSimStats run(const Motion& motion, int64_t begin_ns, int64_t end_ns, const EventSink& sink,
                     int64_t frame_period_ns = 0, const FrameSink& frames = nullptr);
 
-  /// Per-pixel thresholds (for tests): C+ and C- of pixel (x, y).
+  /// Per-pixel thresholds (for tests): C+ and C- of pixel (x, y), without the drift.
   double contrastOn(int x, int y) const { return c_on_[index(x, y)]; }
   double contrastOff(int x, int y) const { return c_off_[index(x, y)]; }
+  /// The common-mode threshold factor 1 + d(t) at `t_s` seconds after the start (exactly 1 without drift).
+  double contrastScale(double t_s) const;
 
  private:
   std::size_t index(int x, int y) const {
@@ -76,14 +90,16 @@ class EventSimulator {
            static_cast<std::size_t>(x);
   }
   /// Renders rows [r0, r1) at the new pose and emits the events of the step (t_a, t_b] into `out`.
-  void processRows(const Renderer::Frame& frame, int64_t t_a, int64_t t_b, int r0, int r1,
-                   std::vector<Event>& out, uint64_t& drops);
+  void processRows(const Renderer::Frame& frame, int64_t t_a, int64_t t_b, float contrast_scale, int r0,
+                   int r1, std::vector<Event>& out, uint64_t& drops);
 
   const CameraModel& camera_;
   Renderer renderer_;
   EventSimConfig config_;
   uint64_t seed_;
   std::vector<float> c_on_, c_off_;
+  double drift_hz_[3] = {0, 0, 0};  // the drift's sinusoids: frequencies and phases
+  double drift_phase_[3] = {0, 0, 0};
   std::vector<float> intensity_;  // scratch: linear intensity at t_b
   std::vector<float> log_prev_;   // L at the previous render
   std::vector<float> log_ref_;    // L at each pixel's last event (reference)

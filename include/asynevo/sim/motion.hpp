@@ -1,8 +1,10 @@
 #pragma once
 // Camera motion for the simulator: T_w_c(t), camera-to-world, defined for t in [beginNs(), endNs()].
 //
-//   * Built-in presets (analytic, smooth): static, rotation, translation, 6dof, fast-translation.
-//     The world frame is the camera frame at t = 0 (camera looking along +z, x right, y down).
+//   * Built-in presets (analytic, smooth): static, rotation, translation, 6dof, fast-translation,
+//     slow-start. The world frame is fixed (camera looking along +z, x right, y down at the identity);
+//     the first pose is the preset's pose at phase 0, also with a start offset (the identity for static
+//     and fast-translation; rotation, translation, 6dof and slow-start start a little rotated/shifted).
 //   * A ground-truth file (TUM or ECD groundtruth.txt): resampled, low-pass filtered (mocap poses are
 //     noisy at the millisecond scale, DESIGN.md §5) and represented by a uniform cumulative cubic
 //     B-spline on R³ and SO(3), so pose, velocity and acceleration are continuous.
@@ -50,8 +52,10 @@ class AnalyticMotion : public Motion {
 std::vector<std::string> motionPresetNames();
 /// True when `name` is a preset.
 bool isMotionPreset(const std::string& name);
-/// A preset motion over [0, duration_s]. Throws std::invalid_argument for an unknown name.
-std::unique_ptr<Motion> makePresetMotion(const std::string& name, double duration_s);
+/// A preset motion over [0, duration_s]. With `start_s` > 0 the preset's motion from start_s to
+/// start_s + duration_s, re-based so that its first pose is the preset's pose at phase 0:
+/// T(t) = T_f(0) T_f(S)⁻¹ T_f(t + S). Throws std::invalid_argument for an unknown name or a negative start.
+std::unique_ptr<Motion> makePresetMotion(const std::string& name, double duration_s, double start_s = 0.0);
 
 struct MotionFileOptions {
   double cutoff_hz = 15.0;       ///< Gaussian low-pass cut-off (-3 dB); 0 disables the smoothing

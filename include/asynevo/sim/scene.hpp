@@ -3,8 +3,10 @@
 //
 // Built-in scenes (DESIGN.md §1): shapes, checkerboard, stripes, blobs (one large plane 1.5 m in front
 // of the start pose, sized to cover everything the camera sees during the motion), poster (blobs with
-// shapes, one plane), boxes (textured cubes at 1–2 m before a background wall) and room (the camera
-// inside a textured box with at least 1.5 m clearance around the motion's bounding box). A scene file
+// shapes, one plane), photo (one plane, a real photograph), sparse (one plane, few well separated
+// polygons), boxes (textured cubes at 1–2 m before a background wall), room (the camera inside a
+// textured box with at least 1.5 m clearance around the motion's bounding box) and photo-room (the
+// same box with photographs on its walls). A scene file
 // (YAML) lists planes explicitly: docs/simulator.md §Scene files.
 
 #include <Eigen/Core>
@@ -42,6 +44,13 @@ struct Scene {
 
 /// Names of the built-in scenes.
 std::vector<std::string> sceneNames();
+
+/// Where the photo scenes (photo, photo-room) find their photographs: Debian's python3-skimage data.
+constexpr const char* kDefaultPhotoDirectory = "/usr/lib/python3/dist-packages/skimage/data";
+/// The photo folder: $ASYNEVO_IMAGE_DIR when set and not empty, else kDefaultPhotoDirectory.
+std::string photoDirectory();
+/// photoDirectory()/file; throws InputError naming the file (and how to install it) when it is missing.
+std::string photoPath(const std::string& file);
 bool isBuiltinScene(const std::string& name);
 
 /// Builds a built-in scene for `motion` seen by `camera`. Throws std::invalid_argument for an unknown

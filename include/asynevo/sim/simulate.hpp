@@ -3,11 +3,14 @@
 //
 //   events.txt        t x y p          (seconds with 9 decimals, p 1 = ON, 0 = OFF), time-ordered
 //   groundtruth.txt   t px py pz qx qy qz qw   (T_w_c of the rendered motion, `groundtruth_rate_hz`)
-//   calib.txt         fx fy cx cy k1 k2 p1 p2 k3   (radtan/pinhole cameras; camchain.yaml for others)
-//   camchain.yaml     the same camera as a Kalibr camchain (with the resolution)
-//   sim.yaml          what was simulated: scene, motion, seed, sensor settings, statistics
+//   calib.txt         fx fy cx cy k1 k2 p1 p2 k3   (only radtan/pinhole cameras of 240x180 pixels, the
+//                     size an ECD calib.txt implies)
+//   camchain.yaml     the camera as a Kalibr camchain (with the resolution), always
+//   sim.yaml          what was simulated: scene, motion, seed, sensor and noise settings, statistics
 //   images/ + images.txt   optional frames (PNG, linear intensity) at `frame_rate_hz`
-//   events.aevt       optional binary copy of the events (AsynEVO's .aevt format)
+//   events.aevt       binary copy of the events (AsynEVO's .aevt format, with the sensor size): with
+//                     `write_binary`, and always for sensors other than 240x180, whose size the ECD text
+//                     format cannot tell the readers
 
 #include <cstdint>
 #include <functional>
@@ -26,15 +29,27 @@ struct SimulationSpec {
   std::string scene = "shapes";  ///< built-in scene name or scene file (YAML)
   std::string motion = "6dof";   ///< motion preset or TUM/ECD ground-truth file
   double duration_s = 0;         ///< 0 = preset default (5 s) or the whole span of a motion file
-  double start_offset_s = 0;     ///< motion files: start this long after the file's first pose
+  /// Motion files: start this long after the file's first pose. Presets: the preset's motion from this
+  /// phase on, re-based to its phase-0 first pose (makePresetMotion).
+  double start_offset_s = 0;
   uint64_t seed = 1;
-  std::optional<CameraModel> camera;  ///< default: the ECD DAVIS240C calibration (radtan, 240x180)
+  std::string sensor_preset = "davis240c";  ///< camera when `camera` is not set (sensorPresetNames())
+  std::optional<CameraModel> camera;        ///< overrides the preset (e.g. a calibration file)
+  /// The event model. Its max_pixel_motion is replaced by `max_step_motion_px` (below).
   EventSimConfig sensor;
+  /// Recorded in sim.yaml only: the noise level the caller applied to `sensor` (applyNoiseLevel).
+  std::string noise_level = "none";
+  /// Image-motion bound of a render step (pixels); 0 = defaultMaxStepMotion(camera).
+  double max_step_motion_px = 0;
   MotionFileOptions motion_file;  ///< smoothing of motion files
   double groundtruth_rate_hz = 1000.0;
   double frame_rate_hz = 0;   ///< > 0: also write images/ and images.txt
   bool write_binary = false;  ///< also write events.aevt
+  bool write_text = true;     ///< write events.txt (false needs write_binary)
 };
+
+/// The camera a spec simulates: `camera` when set, else the sensor preset's.
+CameraModel specCamera(const SimulationSpec& spec);
 
 struct SimulationResult {
   EventSimStats stats;

@@ -62,6 +62,10 @@ struct TextureOptions {
 /// Random dark polygons and ellipses on white, like the ECD "shapes" poster (about 12 per m²,
 /// 5–15 cm, grey levels 0.05–0.35 on 0.9).
 std::shared_ptr<const Texture> makeShapesTexture(const TextureOptions& options);
+/// Sparse texture: `per_m2` irregular dark polygons (3-6 corners, 10-20 cm across, grey 0.05-0.35) per m²
+/// on white (0.9), centres at least `min_separation_m` apart (fewer when they do not fit).
+std::shared_ptr<const Texture> makeSparseShapesTexture(const TextureOptions& options, double per_m2 = 2.0,
+                                                       double min_separation_m = 0.4);
 /// Checkerboard with `square_m` squares (rounded so a whole number of squares fits in the tile).
 std::shared_ptr<const Texture> makeCheckerboardTexture(const TextureOptions& options, double square_m = 0.1);
 /// Vertical square-wave stripes (varying along u) with period `period_m` (rounded to fit the tile).
@@ -72,5 +76,9 @@ std::shared_ptr<const Texture> makeBlobsTexture(const TextureOptions& options);
 /// Loads a PNG/JPEG (any format OpenCV reads) as grey levels; `width_m` is its physical width. The
 /// texture does not repeat. Throws InputError when the file cannot be read.
 std::shared_ptr<const Texture> loadImageTexture(const std::string& path, double width_m);
+/// Loads a photograph as a repeating texture: grey levels mapped to [0.05, 0.95], the image `image_width_m`
+/// wide, mirror-tiled (2x2: the image and its flips), so it repeats every 2 image widths without seams.
+/// Throws InputError when the file cannot be read.
+std::shared_ptr<const Texture> loadPhotoTexture(const std::string& path, double image_width_m);
 
 }  // namespace asynevo::sim
