@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace asynevo::sim {
 
@@ -27,9 +28,80 @@ Renderer::Renderer(const CameraModel& camera, const Scene& scene) : camera_(came
       ray.k = std::max(dx, dy) * std::sqrt(c.x() * c.x() + c.y() * c.y() + 1.0);
     }
   }
+  if (scene.planes.size() > 65535) throw std::invalid_argument("a scene holds at most 65535 planes");
+  tiles_x_ = (w + kTile - 1) / kTile;
+  tiles_y_ = (h + kTile - 1) / kTile;
+  tiles_.resize(static_cast<std::size_t>(tiles_x_) * static_cast<std::size_t>(tiles_y_));
+  for (int ty = 0; ty < tiles_y_; ++ty) {
+    for (int tx = 0; tx < tiles_x_; ++tx) {
+      Tile& tile = tiles_[static_cast<std::size_t>(ty) * static_cast<std::size_t>(tiles_x_) + static_cast<std::size_t>(tx)];
+      for (int y = ty * kTile; y < std::min(h, (ty + 1) * kTile); ++y) {
+        for (int x = tx * kTile; x < std::min(w, (tx + 1) * kTile); ++x) {
+          const Ray& ray = rays_[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
+          if (!ray.valid) continue;
+          if (!tile.any_valid) {
+            tile.x0 = tile.x1 = ray.x;
+            tile.y0 = tile.y1 = ray.y;
+            tile.any_valid = true;
+          }
+          tile.x0 = std::min(tile.x0, ray.x);
+          tile.x1 = std::max(tile.x1, ray.x);
+          tile.y0 = std::min(tile.y0, ray.y);
+          tile.y1 = std::max(tile.y1, ray.y);
+          tile.k_max = std::max(tile.k_max, ray.k);
+        }
+      }
+    }
+  }
 }
 
 Renderer::Frame Renderer::prepare(const StampedPose& T_w_c) const {
+  Frame frame = prepareGeometry(T_w_c);
+  frame.tile_begin.reserve(tiles_.size() + 1);
+  frame.tile_planes.reserve(tiles_.size() * 2);
+  for (const Tile& tile : tiles_) {
+    frame.tile_begin.push_back(static_cast<uint32_t>(frame.tile_planes.size()));
+    if (!tile.any_valid) continue;
+    const double cx[4] = {tile.x0, tile.x1, tile.x0, tile.x1};
+    const double cy[4] = {tile.y0, tile.y0, tile.y1, tile.y1};
+    for (std::size_t i = 0; i < frame.planes.size(); ++i) {
+      const Frame::Plane& p = frame.planes[i];
+      // n·r is linear in (x, y): over the box its extremes are at the corners.
+      double nr[4];
+      bool keep = false;
+      for (int c = 0; c < 4; ++c) nr[c] = p.n.x() * cx[c] + p.n.y() * cy[c] + p.n.z();
+      const bool positive = nr[0] > 0;
+      for (int c = 0; c < 4 && !keep; ++c) keep = std::fabs(nr[c]) < 1e-9 || (nr[c] > 0) != positive;
+      if (!keep) {
+        // Depth s = dn / (n·r) has one sign over the box: all behind the camera -> culled.
+        if ((p.dn > 0) != positive && p.dn != 0) continue;
+        double a_lo = 1e300, a_hi = -1e300, b_lo = 1e300, b_hi = -1e300, nr2_min = 1e300;
+        for (int c = 0; c < 4; ++c) {
+          const double s = p.dn / nr[c];
+          const double a = s * (p.u.x() * cx[c] + p.u.y() * cy[c] + p.u.z()) - p.au;
+          const double b = s * (p.v.x() * cx[c] + p.v.y() * cy[c] + p.v.z()) - p.bv;
+          a_lo = std::min(a_lo, a);
+          a_hi = std::max(a_hi, a);
+          b_lo = std::min(b_lo, b);
+          b_hi = std::max(b_hi, b);
+          nr2_min = std::min(nr2_min, nr[c] * nr[c]);
+        }
+        // Candidates satisfy |a| < hw + fp/2 and |b| < hh + fp/2 with fp <= |dn| k_max / min (n·r)²; a small
+        // relative and absolute slack keeps the bound safe against rounding.
+        const double margin = 0.5 * std::fabs(p.dn) * tile.k_max / nr2_min * 1.001 + 1e-9;
+        const double slack_a = 1e-9 * (std::fabs(a_lo) + std::fabs(a_hi) + p.half_width);
+        const double slack_b = 1e-9 * (std::fabs(b_lo) + std::fabs(b_hi) + p.half_height);
+        const double ra = p.half_width + margin + slack_a, rb = p.half_height + margin + slack_b;
+        keep = a_hi > -ra && a_lo < ra && b_hi > -rb && b_lo < rb;
+      }
+      if (keep) frame.tile_planes.push_back(static_cast<uint16_t>(i));
+    }
+  }
+  frame.tile_begin.push_back(static_cast<uint32_t>(frame.tile_planes.size()));
+  return frame;
+}
+
+Renderer::Frame Renderer::prepareGeometry(const StampedPose& T_w_c) const {
   Frame frame;
   const Eigen::Matrix3d R_c_w = T_w_c.q_w_c.toRotationMatrix().transpose();
   for (const TexturedPlane& p : scene_.planes) {
@@ -49,7 +121,8 @@ Renderer::Frame Renderer::prepare(const StampedPose& T_w_c) const {
   return frame;
 }
 
-float Renderer::shade(const Frame& frame, const Ray& ray) const {
+float Renderer::shade(const Frame& frame, const Ray& ray, const uint16_t* planes_begin,
+                      const uint16_t* planes_end) const {
   // Up to two candidates, nearest first: planes hit, or missed by less than half a pixel.
   struct Candidate {
     double depth = 1e300;
@@ -57,7 +130,8 @@ float Renderer::shade(const Frame& frame, const Ray& ray) const {
     const Frame::Plane* plane = nullptr;
   };
   Candidate first, second;
-  for (const Frame::Plane& p : frame.planes) {
+  for (const uint16_t* index = planes_begin; index != planes_end; ++index) {
+    const Frame::Plane& p = frame.planes[*index];
     const double nr = p.n.x() * ray.x + p.n.y() * ray.y + p.n.z();
     if (std::fabs(nr) < 1e-12) continue;
     const double s = p.dn / nr;  // depth Z of the hit (ray has z = 1)
@@ -97,11 +171,17 @@ float Renderer::shade(const Frame& frame, const Ray& ray) const {
 
 void Renderer::render(const Frame& frame, float* image, int row_begin, int row_end) const {
   const auto w = static_cast<std::size_t>(camera_.width());
+  if (frame.tile_begin.size() != tiles_.size() + 1)
+    throw std::invalid_argument("Renderer::render needs a frame made by prepare()");
+  const uint16_t* planes = frame.tile_planes.data();
   for (int y = row_begin; y < row_end; ++y) {
     const std::size_t row = static_cast<std::size_t>(y) * w;
+    const std::size_t tile_row = static_cast<std::size_t>(y / kTile) * static_cast<std::size_t>(tiles_x_);
     for (std::size_t x = 0; x < w; ++x) {
       const Ray& ray = rays_[row + x];
-      image[row + x] = ray.valid ? shade(frame, ray) : scene_.background;
+      const std::size_t t = tile_row + x / kTile;
+      image[row + x] = ray.valid ? shade(frame, ray, planes + frame.tile_begin[t], planes + frame.tile_begin[t + 1])
+                                 : scene_.background;
     }
   }
 }
@@ -116,7 +196,7 @@ void Renderer::sparseHits(const StampedPose& T_w_c, int stride, std::vector<Eige
                           std::vector<Eigen::Vector3d>& points_w) const {
   pixels.clear();
   points_w.clear();
-  const Frame frame = prepare(T_w_c);
+  const Frame frame = prepareGeometry(T_w_c);
   const Eigen::Matrix3d R_w_c = T_w_c.q_w_c.toRotationMatrix();
   const int w = camera_.width(), h = camera_.height();
   const auto visit = [&](int x, int y) {
