@@ -110,17 +110,20 @@ void addSimulateCommand(CLI::App& app) {
   sim::SimulationSpec& spec = options->spec;
   auto* cmd =
       app.add_subcommand("simulate", "Simulate an event camera with exact ground truth (ECD-format folder)");
-  cmd->add_option("--scene", spec.scene,
-                  fmt::format("built-in scene ({}) or scene file (YAML)", fmt::join(sim::sceneNames(), ", ")))
-      ->required();
-  cmd->add_option("--motion", spec.motion,
-                  fmt::format("motion preset ({}) or TUM/ECD ground-truth file",
-                              fmt::join(sim::motionPresetNames(), ", ")))
-      ->required();
+  // --scene, --motion and --out are required unless --list is given (checked in the callback).
+  auto* scene = cmd->add_option(
+      "--scene", spec.scene,
+      fmt::format("built-in scene ({}) or scene file (YAML)", fmt::join(sim::sceneNames(), ", ")));
+  auto* motion = cmd->add_option("--motion", spec.motion,
+                                 fmt::format("motion preset ({}) or TUM/ECD ground-truth file",
+                                             fmt::join(sim::motionPresetNames(), ", ")));
   cmd->add_option("--duration", spec.duration_s,
                   "seconds to simulate (default: 5 s for a preset, the whole file for a motion file)");
   cmd->add_option("--seed", spec.seed, "random seed (textures, thresholds, noise)")->capture_default_str();
-  cmd->add_option("--out", options->out, "output folder (ECD layout)")->required();
+  auto* out = cmd->add_option("--out", options->out, "output folder (ECD layout)");
+  auto* list = cmd->add_flag("--list",
+                             "print the built-in sensors, noise levels, scenes and motion presets, one "
+                             "'kind: name name ...' line each, and exit (for scripts)");
   cmd->add_option("--sensor", spec.sensor_preset,
                   fmt::format("sensor preset: camera model and resolution ({})",
                               fmt::join(sim::sensorPresetNames(), ", ")))
@@ -179,7 +182,16 @@ void addSimulateCommand(CLI::App& app) {
                 "also write events.aevt (binary; always written for sensors other than 240x180)");
   cmd->add_flag("--no-text", options->no_text, "with --binary: do not write events.txt (saves disk)");
   cmd->add_option("--threads", spec.sensor.threads, "worker threads")->capture_default_str();
-  cmd->callback([options] {
+  cmd->callback([options, scene, motion, out, list] {
+    if (list->count() > 0) {
+      fmt::print("sensors: {}\n", fmt::join(sim::sensorPresetNames(), " "));
+      fmt::print("noise-levels: {}\n", fmt::join(sim::noiseLevelNames(), " "));
+      fmt::print("scenes: {}\n", fmt::join(sim::sceneNames(), " "));
+      fmt::print("motions: {}\n", fmt::join(sim::motionPresetNames(), " "));
+      return;
+    }
+    for (const CLI::Option* required : {scene, motion, out})
+      if (required->count() == 0) throw CLI::RequiredError(required->get_name());
     try {
       runSimulate(*options);
     } catch (const std::invalid_argument& e) {  // a setting out of range: a user error, not an internal one
