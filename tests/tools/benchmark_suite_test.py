@@ -239,7 +239,7 @@ def smoke(asynevo, work):
     with open(docs, "w") as f:
         f.write("# results\n\n%s\nnothing yet\n%s\n\nhand-written text stays\n" % (bs.BEGIN_MARKER, bs.END_MARKER))
     out = os.path.join(work, "out")
-    base = [snakemake, "-s", os.path.join(REPO_DIR, "workflow", "baselines.smk"), "--cores", "2", "--quiet"]
+    base = [snakemake, "-s", os.path.join(REPO_DIR, "workflow", "baselines.smk"), "--cores", "2", "--quiet", "--nolock"]
     config = ["asynevo=" + asynevo, "out=" + out, "sequences=boxes_6dof", "backends=window,incremental-frozen",
               "duration=3", "docs=" + docs]  # fmt: skip
 
