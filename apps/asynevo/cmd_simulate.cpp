@@ -163,8 +163,8 @@ void addSimulateCommand(CLI::App& app) {
                                          "sigma of the Gaussian timestamp jitter, truncated at 3 sigma (us)")
                              ->capture_default_str();
   cmd->add_option("--max-step-motion", spec.max_step_motion_px,
-                  "largest image motion of a render step in pixels (default: 0.3 * max(1, fx / 199.09), the "
-                  "DAVIS240C's step angle)");
+                  "largest image motion of a render step in pixels; 0 (default) = 0.3 * max(1, fx / 199.09), "
+                  "the DAVIS240C's step angle on every sensor");
   cmd->add_option("--start", spec.start_offset_s,
                   "start this many seconds into the motion (a file: after its first pose; a preset: its motion "
                   "from this phase, starting at its usual first pose)");

@@ -137,7 +137,7 @@ Scene makeBuiltinScene(const std::string& name, const Motion& motion, const Came
     if (name == "sparse") {
       TextureOptions sparse_tex = tex;
       sparse_tex.tile_m = 2.0;
-      texture = makeSparseShapesTexture(sparse_tex, 2.0, 0.4);  // ~6 polygons, ~25 corners in a DAVIS240C view
+      texture = makeSparseShapesTexture(sparse_tex, 1.5, 0.5);  // 4-8 polygons, ~15-30 corners in view
     }
     if (name == "checkerboard") texture = makeCheckerboardTexture(tex, 0.1);
     if (name == "stripes") texture = makeStripesTexture(tex, 0.1);

@@ -227,7 +227,7 @@ std::shared_ptr<const Texture> makeSparseShapesTexture(const TextureOptions& opt
   for (const cv::Point2d& c : centres) {
     const double radius = 0.05 + 0.05 * rng.uniform();  // 10-20 cm across
     const double grey = 0.05 + 0.3 * rng.uniform();
-    const int corners_n = 3 + static_cast<int>(rng.uniform() * 4);  // polygons of 3..6 corners
+    const int corners_n = 3 + static_cast<int>(rng.uniform() * 3);  // polygons of 3..5 corners
     const double rotation = rng.uniform() * 2 * kPi;
     std::vector<cv::Point2d> corners;
     for (int i = 0; i < corners_n; ++i) {

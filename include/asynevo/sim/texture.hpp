@@ -62,10 +62,10 @@ struct TextureOptions {
 /// Random dark polygons and ellipses on white, like the ECD "shapes" poster (about 12 per m²,
 /// 5–15 cm, grey levels 0.05–0.35 on 0.9).
 std::shared_ptr<const Texture> makeShapesTexture(const TextureOptions& options);
-/// Sparse texture: `per_m2` irregular dark polygons (3-6 corners, 10-20 cm across, grey 0.05-0.35) per m²
+/// Sparse texture: `per_m2` irregular dark polygons (3-5 corners, 10-20 cm across, grey 0.05-0.35) per m²
 /// on white (0.9), centres at least `min_separation_m` apart (fewer when they do not fit).
-std::shared_ptr<const Texture> makeSparseShapesTexture(const TextureOptions& options, double per_m2 = 2.0,
-                                                       double min_separation_m = 0.4);
+std::shared_ptr<const Texture> makeSparseShapesTexture(const TextureOptions& options, double per_m2 = 1.5,
+                                                       double min_separation_m = 0.5);
 /// Checkerboard with `square_m` squares (rounded so a whole number of squares fits in the tile).
 std::shared_ptr<const Texture> makeCheckerboardTexture(const TextureOptions& options, double square_m = 0.1);
 /// Vertical square-wave stripes (varying along u) with period `period_m` (rounded to fit the tile).
