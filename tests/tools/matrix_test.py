@@ -194,6 +194,8 @@ def smoke(asynevo, work):
                        capture_output=True, text=True)  # fmt: skip
     check(r.returncode != 0 and "castle" in (r.stdout + r.stderr), "an unknown scene stops the workflow, named")
     check(not os.path.exists(os.path.join(work, "bad", "sequences")), "nothing ran for the bad matrix")
+    r = subprocess.run(base + ["-n", "--config", "asynevo=" + asynevo, "halff=validation"], capture_output=True, text=True)
+    check(r.returncode != 0 and "halff" in (r.stdout + r.stderr), "an unknown configuration key stops the workflow, named")
     # one 2 s sequence (the validation half of the smoke matrix) through the whole workflow
     path = os.path.join(work, "smoke.yaml")
     with open(path, "w") as f:
