@@ -23,6 +23,7 @@ import sys
 TOOLS_DIR = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, TOOLS_DIR)
 import matrix as matrix_lib  # noqa: E402
+from matrix_run import read_json  # noqa: E402
 from plot_run import save  # noqa: E402  (selects matplotlib's Agg backend, hints at missing packages)
 import matplotlib.pyplot as plt  # noqa: E402
 
@@ -37,14 +38,6 @@ METRICS = {
     "init_s": ("init", "s", False),
     "coverage_pct": ("coverage", "%", True),
 }
-
-
-def read_json(path):
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError):
-        return None
 
 
 def rows_of(matrix, half, runs_dir):
