@@ -45,6 +45,7 @@ sys.path.insert(0, TOOLS_DIR)
 from plot_run import load_table, save  # noqa: E402
 import numpy as np  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
+from matrix_run import read_json  # noqa: E402
 from baseline_run import BACKENDS, BaselineError, load_sequences, select_backends, select_sequences  # noqa: E402
 
 BEGIN_MARKER = "<!-- results:begin -->"
@@ -70,14 +71,6 @@ TARGET_RTF = 1.0
 
 def log(msg):
     print("[benchmark] " + msg, flush=True)
-
-
-def read_json(path):
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError):
-        return None
 
 
 def write_json(path, obj):
