@@ -53,7 +53,7 @@ StampedPose AnalyticMotion::pose(int64_t t_ns) const {
 }
 
 std::vector<std::string> motionPresetNames() {
-  return {"static", "rotation", "translation", "6dof", "fast-translation", "slow-start"};
+  return {"static", "rotation", "rotation-dominated", "translation", "6dof", "fast-translation", "slow-start"};
 }
 
 bool isMotionPreset(const std::string& name) {
@@ -95,6 +95,16 @@ std::pair<AnalyticMotion::Function, std::string> presetFunction(const std::strin
               q = expQ(rotationAngles(t, 1.0));
             },
             "preset rotation"};
+  }
+  if (name == "rotation-dominated") {
+    // The rotation preset plus 15 % of the translation preset (peak ~0.1 m/s, as ECD shapes_rotation):
+    // a monocular start is possible only where the translation builds up parallax, and the path is long
+    // enough for a Sim(3) alignment (a pure rotation has none).
+    return {[](double t, V& p, Q& q) {
+              p = translationOffsets(t, 0.15);
+              q = expQ(rotationAngles(t, 1.0));
+            },
+            "preset rotation-dominated"};
   }
   if (name == "translation") {
     // Peak speed ~0.7 m/s (x), no rotation.

@@ -48,6 +48,23 @@ TEST(MotionPresets, RotationOnlyAndTranslationOnly) {
   EXPECT_GT(max_offset, 0.1);
 }
 
+
+// rotation-dominated: the rotation preset's attitude, plus a translation of ~0.1 m/s peak (a path for
+// Sim(3) alignment, far smaller than the rotation's image motion).
+TEST(MotionPresets, RotationDominatedRotatesLikeRotationAndTranslatesALittle) {
+  const auto dominated = makePresetMotion("rotation-dominated", 5.0);
+  const auto rotation = makePresetMotion("rotation", 5.0);
+  double path = 0, peak_speed = 0;
+  for (int64_t t = 0; t < 5'000'000'000; t += 10'000'000) {
+    EXPECT_LT(angleBetween(dominated->pose(t).q_w_c, rotation->pose(t).q_w_c), 1e-12);
+    const double step = (dominated->pose(t + 10'000'000).p_w_c - dominated->pose(t).p_w_c).norm();
+    path += step;
+    peak_speed = std::max(peak_speed, step / 0.01);
+  }
+  EXPECT_GT(path, 0.1);
+  EXPECT_GT(peak_speed, 0.05);
+  EXPECT_LT(peak_speed, 0.15);
+}
 // --start S shows the preset's motion from S on, re-based to the preset's usual first pose: the relative
 // motion between any two times equals the unshifted preset's between those times + S.
 TEST(MotionPresets, StartOffsetShiftsThePhaseAndKeepsTheFirstPose) {
