@@ -181,7 +181,7 @@ TEST(SimulateToFolder, UnknownSceneOrMotionIsAnInputError) {
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),
-              "loop: no such motion file (presets: static, rotation, translation, 6dof, fast-translation, "
+              "loop: no such motion file (presets: static, rotation, rotation-dominated, translation, 6dof, fast-translation, "
               "slow-start)");
   }
 }
