@@ -112,17 +112,19 @@ def summary_table(groups):
 
 def sequence_table(rows):
     lines = ["| sequence | half | sensor | noise | scene | motion | status | ATE % | RTE@10 % | vel % | "
-             "init s (attempts) | init after onset s | coverage % | features | note |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]  # fmt: skip
+             "init s (attempts) | init after onset s | coverage % | segments | features | note |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]  # fmt: skip
     for r in rows:
         ok = r.get("status") == "ok"
         init = "%s (%s)" % (cell(r.get("init_s")), r.get("init_attempts", "–")) if r.get("init_s") is not None else \
             "never (%s)" % r.get("init_attempts", "–")  # fmt: skip
-        lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+        ends = r.get("segment_ends") or []
+        segments = "%s (%s)" % (r["segments"], ", ".join(ends)) if ends else cell(r.get("segments"), 0)
+        lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
             r["name"], r["half"], r["sensor"], r["noise"], r["scene"], r["motion"], r.get("status"),
             cell(r.get("ate_pct")) if ok else "–", cell(r.get("rte10_pct"), 1) if ok else "–",
             cell(r.get("vel_pct"), 1) if ok else "–", init, cell(r.get("init_after_onset_s")),
-            cell(r.get("coverage_pct"), 1), cell(r.get("mean_active_features"), 0),
+            cell(r.get("coverage_pct"), 1), segments, cell(r.get("mean_active_features"), 0),
             (r.get("message") or "").replace("|", "/")[:160]))  # fmt: skip
     return "\n".join(lines)
 

@@ -129,6 +129,11 @@ def score(eval_json, stats, gt, est):
     s["wall_s"] = (stats or {}).get("wall_time_s")
     s["real_time_factor"] = (stats or {}).get("real_time_factor")
     s["median_update_ms"] = (stats or {}).get("update_time", {}).get("median_ms")
+    segments = est_.get("segments") or []
+    s["segments"] = len(segments)
+    s["segment_ends"] = [g.get("ended_by") for g in segments[:-1]]  # why each but the last ended
+    s["max_median_residual_px"] = est_.get("max_median_residual_px")
+    s["max_depth_ratio"] = est_.get("max_depth_ratio")
     if eval_json:
         path = eval_json.get("matched_gt_path_length_m") or 0.0
         s["path_m"] = path
@@ -211,13 +216,21 @@ def run_replay(args):
     rec = dict(command=cmd, exit_code=code, process_wall_s=round(wall, 2), replay_of=recorded)
     if os.path.isfile(est + ".velocities.txt"):
         os.replace(est + ".velocities.txt", os.path.join(args.run_dir, "velocities.txt"))
+    segments = []
+    if os.path.isfile(est + ".segments.txt"):
+        os.replace(est + ".segments.txt", os.path.join(args.run_dir, "segments.txt"))
+        with open(os.path.join(args.run_dir, "segments.txt")) as f:
+            segments = [dict(ended_by=ln.split()[4]) for ln in f if ln.strip() and not ln.startswith("#")]
     m = re.search(r"initialized (true|false) at ([0-9.]+) s after ([0-9]+) attempt", out)
+    loss = re.search(r"largest window median residual ([0-9.]+) px, largest depth ratio ([0-9.]+)", out)
     recorded_stats = read_json(os.path.join(recorded, "stats.json")) or {}
     stats = dict(input=recorded_stats.get("input", {}), frontend=recorded_stats.get("frontend", {}),
                  events=recorded_stats.get("events"), wall_time_s=wall,
                  estimator=dict(initialized=bool(m and m.group(1) == "true"),
                                 initialized_at_s=float(m.group(2)) if m else 0.0,
-                                init_attempts=int(m.group(3)) if m else None))  # fmt: skip
+                                init_attempts=int(m.group(3)) if m else None, segments=segments,
+                                max_median_residual_px=float(loss.group(1)) if loss else None,
+                                max_depth_ratio=float(loss.group(2)) if loss else None))  # fmt: skip
     if code is None:
         rec.update(status="timeout", message="stopped after the time limit of %g s" % args.timeout)
     elif code != 0:

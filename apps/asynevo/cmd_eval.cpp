@@ -11,13 +11,14 @@
 #include "asynevo/core/error.hpp"
 #include "asynevo/eval/evaluate.hpp"
 #include "asynevo/eval/report.hpp"
+#include "asynevo/eval/segments.hpp"
 #include "asynevo/eval/timing.hpp"
 #include "commands.hpp"
 
 namespace asynevo::cli {
 
 void addEvalCommand(CLI::App& app) {
-  static std::string gt, est, align = "sim3", out, velocities;
+  static std::string gt, est, align = "sim3", out, velocities, segments;
   static int align_frames = -1;
   static std::vector<double> rel_lengths;
   auto* cmd = app.add_subcommand("eval", "Evaluate an estimated trajectory against ground truth");
@@ -33,6 +34,9 @@ void addEvalCommand(CLI::App& app) {
   cmd->add_option("--velocities", velocities,
                   "estimated body-frame twists (t vx vy vz wx wy wz) for the velocity error (default: "
                   "velocities.txt beside --est when it exists; 'none' skips it)");
+  cmd->add_option("--segments", segments,
+                  "the run's segments.txt: each segment aligned on its own, errors pooled, coverage reported "
+                  "(default: segments.txt beside --est when it exists; 'none' evaluates the estimate as one piece)");
   cmd->add_option("--out", out, "folder for eval.json")->required();
   cmd->callback([] {
     eval::EvalOptions options;
@@ -42,7 +46,10 @@ void addEvalCommand(CLI::App& app) {
     const std::string twists = velocities == "none" ? std::string()
                                : velocities.empty() ? eval::velocitiesBesideEstimate(est)
                                                     : velocities;
-    const eval::EvalResult result = eval::evaluateFiles(gt, est, options, twists);
+    const std::string segments_file = segments == "none" ? std::string()
+                                      : segments.empty() ? eval::segmentsBesideEstimate(est)
+                                                         : segments;
+    const eval::EvalResult result = eval::evaluateFiles(gt, est, options, twists, segments_file);
 
     // A run folder's timing.csv, if the output folder is one.
     std::optional<eval::TimingStats> timing;

@@ -11,6 +11,7 @@
 #include "asynevo/eval/evaluate.hpp"
 #include "asynevo/eval/plot.hpp"
 #include "asynevo/eval/report.hpp"
+#include "asynevo/eval/segments.hpp"
 #include "asynevo/eval/timing.hpp"
 #include "commands.hpp"
 
@@ -28,7 +29,8 @@ void addPlotCommand(CLI::App& app) {
     if (!fs::exists(dir / "eval.json") && fs::exists(gt) && fs::exists(est)) {
       try {
         const eval::EvalResult result = eval::evaluateFiles(gt.string(), est.string(), eval::EvalOptions{},
-                                                                  eval::velocitiesBesideEstimate(est.string()));
+                                                                  eval::velocitiesBesideEstimate(est.string()),
+                                                                  eval::segmentsBesideEstimate(est.string()));
         std::optional<eval::TimingStats> timing;
         if (fs::exists(dir / "timing.csv")) timing = eval::readTimingStats((dir / "timing.csv").string());
         eval::writeEvalOutputs(run, result, {gt.string(), est.string(), timing ? &*timing : nullptr});

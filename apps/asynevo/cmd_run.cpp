@@ -59,6 +59,11 @@ void addRunCommand(CLI::App& app) {
   cmd->add_option("--speed", run.speed, "with --realtime: playback rate (2 = twice real time)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  cmd->add_option("--repeat", run.repeat,
+                  "play the event stream this many times back to back (soak tests; ground truth is then not "
+                  "written)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->callback([] { runRun(options); });
 }
 

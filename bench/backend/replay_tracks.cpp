@@ -7,7 +7,8 @@
 //                       [--seed N] [--dump-errors FILE]
 //
 // Writes OUT_TRAJ (TUM, as the run's stamped_traj_estimate.txt), OUT_TRAJ.velocities.txt (as its
-// velocities.txt) and OUT_TRAJ.updates.csv (the update records).
+// velocities.txt), OUT_TRAJ.segments.txt (as its segments.txt) and OUT_TRAJ.updates.csv (the update
+// records).
 //
 // --oracle: positions of features on a fixed scene point replaced by their projection plus Gaussian
 // noise; features born on a depth discontinuity (no fixed 3D point) keep their measured positions.
@@ -40,6 +41,8 @@
 #include "asynevo/backend/sliding_window_estimator.hpp"
 #include "asynevo/core/config/config.hpp"
 #include "asynevo/core/time.hpp"
+#include "asynevo/eval/statistics.hpp"
+#include "asynevo/frontend/frontend.hpp"
 #include "asynevo/io/calibration_io.hpp"
 #include "asynevo/io/dataset.hpp"
 #include "asynevo/io/trajectory_io.hpp"
@@ -116,6 +119,39 @@ std::vector<FeedMarker> readFeed(const std::string& path) {
 
 }  // namespace
 
+// Per-update time (median, p95, max) and where it goes: each stage's share of the summed update time
+// (docs/backend.md, "Cost of one update"). Wall times of this process: compare two settings in one run.
+static void printUpdateCost(const std::vector<backend::UpdateRecord>& records) {
+  if (records.empty()) return;
+  std::vector<double> total;
+  double sum = 0;
+  for (const auto& r : records) {
+    total.push_back(r.total_ms);
+    sum += r.total_ms;
+  }
+  fmt::print("update time: {} updates, median {:.2f} ms, p95 {:.2f} ms, max {:.2f} ms\n", records.size(),
+             eval::percentile(total, 50), eval::percentile(total, 95), eval::percentile(total, 100));
+  if (!(sum > 0)) return;
+  const std::pair<const char*, double backend::UpdateRecord::*> stages[] = {
+      {"triangulate", &backend::UpdateRecord::triangulate_ms},
+      {"marginalize", &backend::UpdateRecord::marginalize_ms},
+      {"solve: build", &backend::UpdateRecord::solve_build_ms},
+      {"solve: residuals", &backend::UpdateRecord::solve_residuals_ms},
+      {"solve: jacobians", &backend::UpdateRecord::solve_jacobians_ms},
+      {"solve: linear", &backend::UpdateRecord::solve_linear_ms},
+      {"solve: other", &backend::UpdateRecord::solve_other_ms},
+      {"outliers", &backend::UpdateRecord::outliers_ms}};
+  std::string shares;
+  double covered = 0;
+  for (const auto& [name, member] : stages) {
+    double part = 0;
+    for (const auto& r : records) part += r.*member;
+    covered += part;
+    shares += fmt::format("{}{} {:.0f} %", shares.empty() ? "" : ", ", name, 100 * part / sum);
+  }
+  fmt::print("update time shares: {}, rest {:.0f} %\n", shares, 100 * (sum - covered) / sum);
+}
+
 int main(int argc, char** argv) try {
   const Args args = parse(argc, argv);
   const Config config = loadConfig(args.run + "/config.yaml");
@@ -131,7 +167,9 @@ int main(int argc, char** argv) try {
 
   backend::EstimatorOptions options;
   options.config = config.backend;
-  options.focal_px = 0.5 * (camera.fx() + camera.fy());
+  // As 'asynevo run': pixel thresholds in the frontend's (binned) pixels.
+  options.focal_px = 0.5 * (camera.fx() + camera.fy()) /
+                     frontend::Frontend::binningFor(config.frontend, camera.width(), camera.height());
   std::unique_ptr<backend::Estimator> estimator;
   if (args.incremental) {
     estimator = std::make_unique<backend::IncrementalEstimator>(options, backend::IncrementalOptions{});
@@ -228,14 +266,24 @@ int main(int argc, char** argv) try {
   std::sort(twists.begin(), twists.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
   writeTumTrajectory(args.out, trajectory);
   writeVelocities(args.out + ".velocities.txt", twists);  // for 'asynevo eval --velocities'
+  // Segments (docs/method/tracking_loss.md) as the run's segments.txt, for 'asynevo eval --segments'.
+  const std::vector<backend::Segment>& segments = estimator->stats().segments;
+  if (!segments.empty()) {
+    std::ofstream(args.out + ".segments.txt") << backend::segmentsFileText(segments);
+    for (const backend::Segment& g : segments)
+      fmt::print("segment {:.3f}-{:.3f} s, {} knots, ended by {}\n", g.t0_ns * 1e-9, g.t1_ns * 1e-9, g.knots,
+                 backend::segmentEndName(g.end));
+  }
+  const std::vector<backend::UpdateRecord> records = estimator->takeUpdateRecords();
   {
     // The update records next to the trajectory (OUT_TRAJ.updates.csv) for plots of the window.
     std::ofstream updates(args.out + ".updates.csv");
     updates << "t,knots,landmarks,measurements,iterations,solve_ms,total_ms,final_cost\n";
-    for (const auto& r : estimator->takeUpdateRecords())
+    for (const auto& r : records)
       updates << fmt::format("{:.4f},{},{},{},{},{:.2f},{:.2f},{:.4g}\n", r.event_t_ns * 1e-9, r.window_knots,
                              r.landmarks, r.measurements, r.iterations, r.solve_ms, r.total_ms, r.final_cost);
   }
+  printUpdateCost(records);
   const auto stats = estimator->stats();
   fmt::print(
       "{}: fed {} measurements ({} skipped), {} knots, initialized {} at {:.3f} s after {} attempt(s)\n",
@@ -249,6 +297,8 @@ int main(int argc, char** argv) try {
       stats.observations_marginalized, stats.observations_dropped_forced,
       stats.observations_dropped_untriangulated, stats.scale_anchors, stats.landmarks_depth_rejected,
       stats.landmarks_depth_reset);
+  fmt::print("tracking loss: largest window median residual {:.2f} px, largest depth ratio {:.2f}\n",
+             stats.max_median_residual_px, stats.max_depth_ratio);
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "error: %s\n", e.what());

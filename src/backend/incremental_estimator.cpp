@@ -28,7 +28,7 @@ void IncrementalEstimator::addMeasurement(const TrackMeasurement& m) {
 void IncrementalEstimator::advanceTo(int64_t t_ns) {
   const uint64_t updates_before = stats().updates;
   SlidingWindowEstimator::advanceTo(t_ns);  // a new knot triggers an update as in the window estimator
-  if (!stats().initialized) return;
+  if (!tracking()) return;
   if (stats().updates != updates_before) {
     last_solve_ns_ = t_ns;
     measurements_since_solve_ = 0;

@@ -31,6 +31,11 @@ double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+bool finiteKnot(const Knot& knot) {
+  return std::all_of(knot.pose.begin(), knot.pose.end(), [](double v) { return std::isfinite(v); }) &&
+         std::all_of(knot.velocity.begin(), knot.velocity.end(), [](double v) { return std::isfinite(v); });
+}
+
 }  // namespace
 
 SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options)
@@ -47,11 +52,19 @@ SlidingWindowEstimator::~SlidingWindowEstimator() = default;
 
 void SlidingWindowEstimator::addMeasurement(const TrackMeasurement& m) {
   ++stats_.measurements_received;
+  if (!std::isfinite(m.xn) || !std::isfinite(m.yn)) {
+    ++stats_.measurements_non_finite;
+    return;
+  }
+  if (m.t_ns < reset_ns_) {
+    ++stats_.measurements_before_reset;
+    return;
+  }
   if (rejected_features_.count(m.feature_id)) {
     ++stats_.measurements_of_rejected_tracks;
     return;
   }
-  if (stats_.initialized && m.t_ns < trajectory_.oldestTime()) {
+  if (tracking_ && m.t_ns < trajectory_.oldestTime()) {
     ++stats_.measurements_before_window;
     return;
   }
@@ -70,13 +83,26 @@ void SlidingWindowEstimator::addMeasurement(const TrackMeasurement& m) {
 void SlidingWindowEstimator::endFeature(int64_t /*feature_id*/) {}
 
 void SlidingWindowEstimator::advanceTo(int64_t t_ns) {
+  // A gap in the events: nothing constrains the motion across it, so the segment ends at the last
+  // event before it and the estimator starts again with what comes after it.
+  const double gap_ms = options_.config.loss_max_event_gap_ms;
+  if (gap_ms > 0 && last_event_ns_ > 0 && durationSeconds(last_event_ns_, t_ns) * 1e3 > gap_ms) {
+    if (tracking_) {
+      loseTracking(SegmentEnd::kEventGap, t_ns, last_event_ns_, last_event_ns_ + 1);
+    } else {  // measurements from before the gap would pair with ones after it in a two-view start
+      tracks_.clear();
+      first_measurement_ns_ = -1;
+      last_init_attempt_ns_.reset();
+      reset_ns_ = last_event_ns_ + 1;
+    }
+  }
   last_event_ns_ = std::max(last_event_ns_, t_ns);
-  if (!stats_.initialized) {
+  if (!tracking_) {
     const bool due = !last_init_attempt_ns_ || t_ns - *last_init_attempt_ns_ >= knot_dt_ns_;
     if (first_measurement_ns_ >= 0 && due) tryInitialize(t_ns);
     return;
   }
-  while (t_ns >= trajectory_.newestTime() + knot_dt_ns_) {
+  while (tracking_ && t_ns >= trajectory_.newestTime() + knot_dt_ns_) {
     trajectory_.extendTo(trajectory_.newestTime() + knot_dt_ns_);
     ++stats_.knots;
     update(t_ns);
@@ -160,11 +186,19 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
     for (auto& [id, track] : tracks_) track.triangulated = false;
     return;
   }
-  stats_.initialized = true;
-  stats_.initialized_at_ns = t_ns;
-  stats_.init_views = {durationSeconds(two_view.t_a_ns, two_view.t_b_ns) * 1e3, two_view.features,
-                       two_view.inliers, two_view.parallax_px, landmarks};
-  stats_.knots = trajectory_.size();
+  if (!stats_.initialized) {
+    stats_.initialized = true;
+    stats_.initialized_at_ns = t_ns;
+    stats_.init_views = {durationSeconds(two_view.t_a_ns, two_view.t_b_ns) * 1e3, two_view.features,
+                         two_view.inliers, two_view.parallax_px, landmarks};
+  }
+  tracking_ = true;
+  Segment segment;
+  segment.initialized_at_ns = t_ns;
+  stats_.segments.push_back(segment);
+  last_supported_ns_ = trajectory_.newestTime();
+  segment_depth_ = 0;
+  stats_.knots += trajectory_.size();
   const auto start = Clock::now();
   const auto [iterations, cost] = solve(std::max(options_.config.max_iterations, 20));
   removeOutliers();
@@ -190,8 +224,15 @@ void SlidingWindowEstimator::update(int64_t t_ns) {
   record.marginalize_ms = msSince(t_marg);
   const auto t_solve = Clock::now();
   const auto [iterations, cost] = solve(options_.config.max_iterations);
+  const auto t_outliers = Clock::now();
   removeOutliers();
+  record.outliers_ms = msSince(t_outliers);
   record.solve_ms = msSince(t_solve);
+  record.solve_build_ms = last_solve_times_.build_ms;
+  record.solve_residuals_ms = last_solve_times_.residuals_ms;
+  record.solve_jacobians_ms = last_solve_times_.jacobians_ms;
+  record.solve_linear_ms = last_solve_times_.linear_ms;
+  record.solve_other_ms = last_solve_times_.other_ms;
   record.iterations = iterations;
   record.final_cost = cost;
   record.window_knots = static_cast<int>(trajectory_.size());
@@ -204,6 +245,65 @@ void SlidingWindowEstimator::update(int64_t t_ns) {
   records_.push_back(record);
   ++stats_.updates;
   stats_.max_window_knots = std::max(stats_.max_window_knots, record.window_knots);
+  checkTracking(t_ns, record.landmarks);
+}
+
+void SlidingWindowEstimator::checkTracking(int64_t t_ns, int landmarks) {
+  const BackendConfig& c = options_.config;
+  const int64_t newest = trajectory_.newestTime();
+  for (const auto& [t, knot] : trajectory_.knots()) {
+    if (!finiteKnot(knot)) {
+      loseTracking(SegmentEnd::kNonFinite, t_ns, std::numeric_limits<int64_t>::min(), t_ns);
+      return;
+    }
+  }
+  // A solve that no longer explains its measurements: the window's estimate is not kept.
+  if (c.loss_max_median_px > 0 && landmarks > 0 && last_median_residual_px_ > c.loss_max_median_px) {
+    loseTracking(SegmentEnd::kResidual, t_ns, std::numeric_limits<int64_t>::min(), t_ns);
+    return;
+  }
+  stats_.max_median_residual_px = std::max(stats_.max_median_residual_px, last_median_residual_px_);
+  // Scale collapse (or blow-up): the map's depths drift away from those the segment started with.
+  const double depth = medianLandmarkDepth(trajectory_.knots().rbegin()->second.T_w_c().inverse(), 10);
+  if (depth > 0 && segment_depth_ == 0) segment_depth_ = depth;
+  const double ratio = depth > 0 ? std::max(depth / segment_depth_, segment_depth_ / depth) : 0.0;
+  if (c.loss_depth_ratio > 0 && ratio > c.loss_depth_ratio) {
+    loseTracking(SegmentEnd::kDepth, t_ns, std::numeric_limits<int64_t>::min(), t_ns);
+    return;
+  }
+  stats_.max_depth_ratio = std::max(stats_.max_depth_ratio, ratio);
+  if (landmarks >= c.loss_min_landmarks) {
+    last_supported_ns_ = newest;
+  } else if (c.loss_unsupported_ms > 0 && durationSeconds(last_supported_ns_, newest) * 1e3 > c.loss_unsupported_ms) {
+    loseTracking(SegmentEnd::kUnsupported, t_ns, last_supported_ns_, t_ns);
+  }
+}
+
+void SlidingWindowEstimator::loseTracking(SegmentEnd reason, int64_t t_ns, int64_t keep_until_ns,
+                                          int64_t reset_ns) {
+  for (const auto& [t, knot] : trajectory_.knots()) {
+    if (t <= keep_until_ns && finiteKnot(knot)) {
+      finalizeKnot(knot);
+    } else {
+      ++stats_.knots_dropped_at_loss;
+    }
+  }
+  if (keep_until_ns >= trajectory_.newestTime()) {  // the window is kept whole: so are its landmarks
+    for (const auto& [id, track] : tracks_)
+      if (track.triangulated) finalizeLandmark(track);
+  }
+  Segment& segment = stats_.segments.back();
+  segment.end = reason;
+  segment.ended_at_ns = t_ns;
+  trajectory_ = Trajectory();
+  tracks_.clear();
+  prior_.reset();
+  anchors_.clear();
+  tracking_ = false;
+  first_measurement_ns_ = -1;
+  last_init_attempt_ns_.reset();
+  reset_ns_ = reset_ns;
+  segment_depth_ = 0;
 }
 
 bool SlidingWindowEstimator::DepthGate::admits(const double* p_w) const {
@@ -216,18 +316,20 @@ SlidingWindowEstimator::DepthGate SlidingWindowEstimator::depthGate() const {
   const double range = options_.config.landmark_depth_range;
   if (range <= 0 || trajectory_.size() == 0) return gate;
   gate.T_c_w = trajectory_.knots().rbegin()->second.T_w_c().inverse();
-  std::vector<double> depths;
-  for (const auto& [id, track] : tracks_)
-    if (track.triangulated)
-      depths.push_back((gate.T_c_w * Eigen::Map<const Eigen::Vector3d>(track.p_w.data())).z());
-  if (depths.size() < 10) return gate;
-  std::nth_element(depths.begin(), depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2),
-                   depths.end());
-  const double median = depths[depths.size() / 2];
+  const double median = medianLandmarkDepth(gate.T_c_w, 10);
   if (median <= 0) return gate;
   gate.min_depth = median / range;
   gate.max_depth = median * range;
   return gate;
+}
+
+double SlidingWindowEstimator::medianLandmarkDepth(const lie::SE3& T_c_w, std::size_t min_count) const {
+  std::vector<double> depths;
+  for (const auto& [id, track] : tracks_)
+    if (track.triangulated) depths.push_back((T_c_w * Eigen::Map<const Eigen::Vector3d>(track.p_w.data())).z());
+  if (depths.empty() || depths.size() < min_count) return 0;
+  std::nth_element(depths.begin(), depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2), depths.end());
+  return std::max(0.0, depths[depths.size() / 2]);
 }
 
 void SlidingWindowEstimator::triangulateTracks() {
@@ -308,6 +410,7 @@ void SlidingWindowEstimator::buildFactors(std::vector<FactorEntry>& factors, std
 }
 
 std::pair<int, double> SlidingWindowEstimator::solve(int max_iterations) {
+  const auto build_start = Clock::now();
   std::vector<FactorEntry> factors;
   std::map<double*, BlockKind> kinds;
   buildFactors(factors, kinds, nullptr);
@@ -343,7 +446,15 @@ std::pair<int, double> SlidingWindowEstimator::solve(int max_iterations) {
   solver_options.logging_type = ceres::SILENT;
   if (options_.real_time) solver_options.max_solver_time_in_seconds = options_.config.max_solver_time_s;
   ceres::Solver::Summary summary;
+  const double build_ms = msSince(build_start);
   ceres::Solve(solver_options, &problem, &summary);
+  SolveTimes& times = last_solve_times_;
+  times.build_ms = build_ms;
+  times.residuals_ms = summary.residual_evaluation_time_in_seconds * 1e3;
+  times.jacobians_ms = summary.jacobian_evaluation_time_in_seconds * 1e3;
+  times.linear_ms = summary.linear_solver_time_in_seconds * 1e3;
+  times.other_ms =
+      std::max(0.0, summary.total_time_in_seconds * 1e3 - times.residuals_ms - times.jacobians_ms - times.linear_ms);
   return {static_cast<int>(summary.iterations.size()), summary.final_cost};
 }
 
@@ -536,6 +647,11 @@ void SlidingWindowEstimator::removeOutliers() {
     int count = 0;
   };
   std::map<FeatureTrack*, TrackResiduals> per_track;
+  // The measurements of the newest knot interval: what this update added. Older ones were pruned by
+  // earlier calls, so their residuals would hide a window that stopped fitting.
+  std::vector<double> norms_px;
+  const int64_t recent_from =
+      trajectory_.size() >= 2 ? std::prev(trajectory_.knots().end(), 2)->first : std::numeric_limits<int64_t>::min();
   double residual[2];
   for (const ProjectionSource& source : sources) {
     const FactorEntry& f = factors[source.factor];
@@ -543,8 +659,16 @@ void SlidingWindowEstimator::removeOutliers() {
     const bool ok = f.cost->Evaluate(f.blocks.data(), residual, nullptr);
     const double norm = ok ? std::hypot(residual[0], residual[1]) : std::numeric_limits<double>::infinity();
     if (norm > limit) r.bad.push_back(source.observation);
+    if (source.track->observations[source.observation].t_ns > recent_from)
+      norms_px.push_back(norm * options_.config.pixel_sigma);
     r.sum_squared += ok ? norm * norm : limit * limit;
     ++r.count;
+  }
+  last_median_residual_px_ = 0;
+  if (norms_px.size() >= 10) {
+    std::nth_element(norms_px.begin(), norms_px.begin() + static_cast<std::ptrdiff_t>(norms_px.size() / 2),
+                     norms_px.end());
+    last_median_residual_px_ = norms_px[norms_px.size() / 2];
   }
   const DepthGate depth_gate = depthGate();
   for (auto& [track, r] : per_track) {
@@ -583,20 +707,29 @@ void SlidingWindowEstimator::removeOutliers() {
 }
 
 void SlidingWindowEstimator::finish() {
-  if (stats_.initialized) {
-    while (last_event_ns_ > trajectory_.newestTime()) {  // cover the stream's tail with one more knot
-      trajectory_.extendTo(trajectory_.newestTime() + knot_dt_ns_);
-      ++stats_.knots;
-      update(last_event_ns_);
-    }
-    for (const auto& [t, knot] : trajectory_.knots()) finalizeKnot(knot);
-    for (const auto& [id, track] : tracks_) {
-      if (track.triangulated) finalizeLandmark(track);
-    }
+  while (tracking_ && last_event_ns_ > trajectory_.newestTime()) {  // cover the stream's tail with one more knot
+    trajectory_.extendTo(trajectory_.newestTime() + knot_dt_ns_);
+    ++stats_.knots;
+    update(last_event_ns_);
   }
+  if (!tracking_) return;
+  for (const auto& [t, knot] : trajectory_.knots()) finalizeKnot(knot);
+  for (const auto& [id, track] : tracks_) {
+    if (track.triangulated) finalizeLandmark(track);
+  }
+  Segment& segment = stats_.segments.back();
+  segment.end = SegmentEnd::kEndOfStream;
+  segment.ended_at_ns = last_event_ns_;
+  tracking_ = false;
 }
 
-void SlidingWindowEstimator::finalizeKnot(const Knot& knot) { final_knots_.push_back(knot); }
+void SlidingWindowEstimator::finalizeKnot(const Knot& knot) {
+  final_knots_.push_back(knot);
+  Segment& segment = stats_.segments.back();  // knots are final only inside a segment
+  if (segment.knots == 0) segment.t0_ns = knot.t_ns;
+  segment.t1_ns = knot.t_ns;
+  ++segment.knots;
+}
 
 void SlidingWindowEstimator::finalizeLandmark(const FeatureTrack& track) {
   final_landmarks_.push_back({track.id, Eigen::Map<const Eigen::Vector3d>(track.p_w.data()),

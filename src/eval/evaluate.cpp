@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "asynevo/core/time.hpp"
+#include "asynevo/eval/segments.hpp"
 #include "asynevo/io/trajectory_io.hpp"
 
 namespace asynevo::eval {
@@ -177,19 +178,23 @@ void addVelocityErrors(EvalResult& result, const StampedTrajectory& gt,
 }
 
 EvalResult evaluateFiles(const std::string& gt_path, const std::string& est_path, const EvalOptions& options,
-                         const std::string& velocities_path) {
+                         const std::string& velocities_path, const std::string& segments_path) {
   TrajectoryReadReport gt_report, est_report;
   const StampedTrajectory gt = readTumTrajectory(gt_path, &gt_report);
   const StampedTrajectory est = readTumTrajectory(est_path, &est_report);
   const std::vector<StampedTwist> twists =
       velocities_path.empty() ? std::vector<StampedTwist>{} : readVelocities(velocities_path);
+  const std::vector<EstimateSegment> segments =
+      segments_path.empty() ? std::vector<EstimateSegment>{} : readSegments(segments_path);
   EvalResult result;
   try {
-    result = evaluate(gt, est, options);
-    if (!velocities_path.empty()) {
-      addVelocityErrors(result, gt, twists, options, velocities_path);
-      result.velocities_path = velocities_path;
+    if (segments.empty()) {
+      result = evaluate(gt, est, options);
+      if (!velocities_path.empty()) addVelocityErrors(result, gt, twists, options, velocities_path);
+    } else {
+      result = evaluateSegmented(gt, est, segments, options, velocities_path.empty() ? nullptr : &twists);
     }
+    if (!velocities_path.empty()) result.velocities_path = velocities_path;
   } catch (const EvalError& e) {
     throw EvalError(fmt::format("{} vs {}: {}", est_path, gt_path, e.what()));
   }

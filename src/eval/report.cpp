@@ -80,6 +80,18 @@ std::string evalJson(const EvalResult& r, const ReportInputs& inputs) {
       quoted(alignTypeName(r.align)), r.align_frames, num(r.alignment.scale), num(R(0, 0)), num(R(0, 1)),
       num(R(0, 2)), num(R(1, 0)), num(R(1, 1)), num(R(1, 2)), num(R(2, 0)), num(R(2, 1)), num(R(2, 2)),
       num(r.alignment.translation.x()), num(r.alignment.translation.y()), num(r.alignment.translation.z()));
+  if (r.coverage) {
+    j += fmt::format("  \"coverage\": {},\n  \"segments\": [", num(*r.coverage));
+    for (std::size_t k = 0; k < r.segments.size(); ++k) {
+      const SegmentResult& g = r.segments[k];
+      j += fmt::format(
+          "{}\n    {{\"index\": {}, \"start_s\": {}, \"end_s\": {}, \"ended_by\": {}, \"poses\": {}, "
+          "\"matched\": {}, \"scored\": {}, \"scale\": {}, \"ate_rmse_m\": {}, \"note\": {}}}",
+          k ? "," : "", g.index, num(nsToSeconds(g.t0_ns)), num(nsToSeconds(g.t1_ns)), quoted(g.ended_by), g.poses,
+          g.matched, g.scored ? "true" : "false", num(g.alignment.scale), num(g.ate_rmse_m), quoted(g.note));
+    }
+    j += r.segments.empty() ? "],\n" : "\n  ],\n";
+  }
   j += fmt::format("  \"gt_path_length_m\": {},\n  \"matched_gt_path_length_m\": {},\n",
                    num(r.gt_path_length_m), num(r.matched_gt_path_length_m));
   j += fmt::format(
@@ -174,9 +186,22 @@ std::string summaryTable(const EvalResult& r, const TimingStats* timing) {
   std::string s;
   s += fmt::format("associated {} of {} estimate poses with {} ground-truth poses (|dt| < {} s)\n", r.matched,
                    r.est_poses, r.gt_poses, nsToSeconds(r.max_time_diff_ns));
-  s += fmt::format("alignment {} ({} frames): scale {:.6f}\n", alignTypeName(r.align),
-                   r.align_frames < 0 ? std::string("all") : std::to_string(r.align_frames),
-                   r.alignment.scale);
+  if (r.segments.size() > 1) {
+    s += fmt::format("alignment {} ({} frames) per segment; {} segments cover {:.1f} % of the ground truth:\n",
+                     alignTypeName(r.align), r.align_frames < 0 ? std::string("all") : std::to_string(r.align_frames),
+                     r.segments.size(), 100.0 * r.coverage.value_or(0.0));
+    for (const SegmentResult& g : r.segments) {
+      s += g.scored ? fmt::format("  segment {}: {:.3f}-{:.3f} s, {} poses, scale {:.6f}, ATE {:.4f} m, ended by {}\n",
+                                  g.index, nsToSeconds(g.t0_ns), nsToSeconds(g.t1_ns), g.poses, g.alignment.scale,
+                                  g.ate_rmse_m, g.ended_by)
+                    : fmt::format("  segment {}: {:.3f}-{:.3f} s, {} poses, not scored ({}), ended by {}\n", g.index,
+                                  nsToSeconds(g.t0_ns), nsToSeconds(g.t1_ns), g.poses, g.note, g.ended_by);
+    }
+  } else {
+    s += fmt::format("alignment {} ({} frames): scale {:.6f}\n", alignTypeName(r.align),
+                     r.align_frames < 0 ? std::string("all") : std::to_string(r.align_frames), r.alignment.scale);
+    if (r.coverage) s += fmt::format("one segment, covering {:.1f} % of the ground truth\n", 100.0 * *r.coverage);
+  }
   s += fmt::format("ground-truth path {:.3f} m (associated part {:.3f} m)\n", r.gt_path_length_m,
                    r.matched_gt_path_length_m);
   s += "absolute trajectory error (ATE):\n";

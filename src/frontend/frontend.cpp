@@ -159,19 +159,38 @@ int64_t msToNs(double ms) { return std::llround(ms * 1e6); }
 
 }  // namespace
 
+int Frontend::binningFor(const FrontendConfig& config, int width, int height) {
+  if (config.binning > 0) return config.binning;
+  int b = 1;
+  while (std::max(width, height) > 400 * b && b < 8) b *= 2;
+  return b;
+}
+
+namespace {
+int log2Of(int power_of_two) {
+  int shift = 0;
+  while ((1 << shift) < power_of_two) ++shift;
+  return shift;
+}
+int binnedExtent(int size, int shift) { return (size + (1 << shift) - 1) >> shift; }
+}  // namespace
+
 Frontend::Frontend(const FrontendConfig& config, int width, int height, UndistortionTable<float> undistortion)
     : config_(config),
-      width_(width),
-      height_(height),
+      bin_shift_(log2Of(binningFor(config, width, height))),
+      sensor_width_(width),
+      sensor_height_(height),
+      width_(binnedExtent(width, bin_shift_)),
+      height_(binnedExtent(height, bin_shift_)),
       undistortion_(std::move(undistortion)),
-      sae_(width, height, msToNs(config.refractory_period_ms)),
+      sae_(width_, height_, msToNs(config.refractory_period_ms)),
       detector_(sae_, detectorParams(config)),
-      registration_(static_cast<std::size_t>(width) * height, -1),
-      pixel_events_(static_cast<std::size_t>(width) * height, 0),
+      registration_(static_cast<std::size_t>(width_) * height_, -1),
+      pixel_events_(static_cast<std::size_t>(width_) * height_, 0),
       slots_(config.max_features),
       id_map_(config.max_features),
-      grid_w_((width + (1 << kCellShift) - 1) >> kCellShift),
-      grid_h_((height + (1 << kCellShift) - 1) >> kCellShift),
+      grid_w_((width_ + (1 << kCellShift) - 1) >> kCellShift),
+      grid_h_((height_ + (1 << kCellShift) - 1) >> kCellShift),
       cell_heads_(static_cast<std::size_t>(grid_w_) * grid_h_, -1),
       max_reversal_ns_(std::llround(config.max_time_reversal_us * 1e3)),
       min_dt_ns_(msToNs(config.min_dt_ms)),
@@ -184,11 +203,12 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
       max_rotation_rad_(static_cast<float>(config.max_rotation_deg * kPi / 180.0)),
       border_margin_(static_cast<float>(config.border_margin_px)) {
   config.validate();
+  stats_.harris_threshold = stats_.min_harris_threshold = config.harris_threshold;
   if (config.hot_pixel_filter)
-    hot_pixel_filter_ = std::make_unique<HotPixelFilter>(width, height, msToNs(config.hot_pixel_window_ms),
+    hot_pixel_filter_ = std::make_unique<HotPixelFilter>(width_, height_, msToNs(config.hot_pixel_window_ms),
                                                          config.hot_pixel_factor, config.hot_pixel_min_rate_hz);
   if (config.noise_filter)
-    noise_filter_ = std::make_unique<BackgroundActivityFilter>(width, height, msToNs(config.noise_filter_ms));
+    noise_filter_ = std::make_unique<BackgroundActivityFilter>(width_, height_, msToNs(config.noise_filter_ms));
   if (undistortion_.width() != 0 && (undistortion_.width() != width || undistortion_.height() != height))
     throw Error(fmt::format("frontend: undistortion table is {}x{} but the sensor is {}x{}",
                             undistortion_.width(), undistortion_.height(), width, height));
@@ -241,12 +261,15 @@ void Frontend::cellRemove(int slot) {
   slots_[slot].next_in_cell = -1;
 }
 
-void Frontend::process(const Event& input, MeasurementSink& sink) {
+void Frontend::process(const Event& raw, MeasurementSink& sink) {
   ++stats_.events;
-  if (input.x >= width_ || input.y >= height_) {
+  if (raw.x >= sensor_width_ || raw.y >= sensor_height_) {
     ++stats_.dropped_out_of_sensor;
     return;
   }
+  Event input = raw;
+  input.x = static_cast<uint16_t>(raw.x >> bin_shift_);
+  input.y = static_cast<uint16_t>(raw.y >> bin_shift_);
   int64_t t = input.t_ns;
   if (!started_) {
     started_ = true;
@@ -384,6 +407,11 @@ void Frontend::onStateChange(int slot, int64_t t_ns, MeasurementSink& sink) {
     m.x += dx;
     m.y += dy;
   }
+  if (bin_shift_ > 0) {  // back to sensor pixels: binned pixel centre (x + 0.5) b - 0.5
+    const float b = static_cast<float>(1 << bin_shift_);
+    m.x = (m.x + 0.5f) * b - 0.5f;
+    m.y = (m.y + 0.5f) * b - 0.5f;
+  }
   if (!normalize(m.x, m.y, m.xn, m.yn)) {
     ++stats_.measurements_without_undistortion;
     return;
@@ -467,10 +495,31 @@ void Frontend::updateCommonRoll() {
   common_roll_ = wrapAngle(common_roll_ + *mid);
 }
 
+void Frontend::adaptDetectionThreshold(int64_t t_ns) {
+  constexpr int64_t kStepNs = 10'000'000;
+  constexpr double kFactor = 0.95;
+  next_threshold_update_ns_ = t_ns + kStepNs;
+  const double base = config_.harris_threshold;
+  const double floor = base * config_.harris_threshold_floor;
+  double& threshold = stats_.harris_threshold;
+  // Harris scores are positive for corners; a non-positive base threshold has nothing to relax.
+  if (!(base > 0)) return;
+  if (4 * stats_.active_features < 3 * config_.max_features) {
+    threshold = std::max(floor, threshold * kFactor);
+  } else if (10 * stats_.active_features >= 9 * config_.max_features) {
+    threshold = std::min(base, threshold / kFactor);
+  } else {
+    return;
+  }
+  detector_.setHarrisThreshold(threshold);
+  stats_.min_harris_threshold = std::min(stats_.min_harris_threshold, threshold);
+}
+
 void Frontend::housekeeping(int64_t t_ns, MeasurementSink& sink) {
   stats_.active_feature_seconds += stats_.active_features * durationSeconds(last_housekeeping_ns_, t_ns);
   last_housekeeping_ns_ = t_ns;
   next_housekeeping_ns_ = t_ns + housekeeping_ns_;
+  if (config_.harris_threshold_floor < 1.0 && t_ns >= next_threshold_update_ns_) adaptDetectionThreshold(t_ns);
   if (max_rotation_rad_ > 0) updateCommonRoll();
   for (int slot = 0; slot < static_cast<int>(slots_.size()); ++slot) {
     Slot& s = slots_[slot];
@@ -600,7 +649,13 @@ void Frontend::finish(MeasurementSink& sink) {
 }
 
 std::vector<std::pair<int, int>> Frontend::hotPixels() const {
-  return hot_pixel_filter_ ? hot_pixel_filter_->hotPixels() : std::vector<std::pair<int, int>>{};
+  std::vector<std::pair<int, int>> pixels =
+      hot_pixel_filter_ ? hot_pixel_filter_->hotPixels() : std::vector<std::pair<int, int>>{};
+  for (auto& [x, y] : pixels) {  // a bin's first sensor pixel
+    x <<= bin_shift_;
+    y <<= bin_shift_;
+  }
+  return pixels;
 }
 
 std::vector<Frontend::PixelCount> Frontend::dominantPixels(double share, int max_pixels) const {
@@ -617,6 +672,10 @@ std::vector<Frontend::PixelCount> Frontend::dominantPixels(double share, int max
                                [](const PixelCount& a, const PixelCount& b) { return a.events > b.events; });
     top.insert(at, p);
     if (static_cast<int>(top.size()) > max_pixels) top.pop_back();
+  }
+  for (PixelCount& p : top) {  // a bin's first sensor pixel
+    p.x <<= bin_shift_;
+    p.y <<= bin_shift_;
   }
   uint64_t sum = 0;
   for (std::size_t k = 0; k < top.size(); ++k) {

@@ -9,6 +9,7 @@
 #include "asynevo/core/time.hpp"
 #include "asynevo/eval/plot.hpp"
 #include "asynevo/eval/report.hpp"
+#include "asynevo/eval/segments.hpp"
 #include "asynevo/eval/timing.hpp"
 
 namespace asynevo::pipeline {
@@ -45,7 +46,8 @@ DemoResult runDemo(const DemoOptions& options,
   const std::string gt = (dir / "stamped_groundtruth.txt").string(),
                     est = (dir / "stamped_traj_estimate.txt").string();
   try {
-    result.evaluation = eval::evaluateFiles(gt, est, eval::EvalOptions{}, eval::velocitiesBesideEstimate(est));
+    result.evaluation = eval::evaluateFiles(gt, est, eval::EvalOptions{}, eval::velocitiesBesideEstimate(est),
+                                             eval::segmentsBesideEstimate(est));
     const eval::TimingStats timing = eval::readTimingStats((dir / "timing.csv").string());
     eval::writeEvalOutputs(result.run_dir, *result.evaluation, {gt, est, &timing});
   } catch (const Error& e) {

@@ -16,6 +16,7 @@
 #include "asynevo/io/dataset.hpp"
 #include "asynevo/io/event_reader.hpp"
 #include "asynevo/io/groundtruth_reader.hpp"
+#include "asynevo/io/repeat_reader.hpp"
 
 namespace asynevo::pipeline {
 
@@ -82,7 +83,11 @@ RunSummary runDataset(const RunOptions& options,
     reader_options.width = config.sensor.width;
     reader_options.height = config.sensor.height;
   }
-  auto reader = openEventReader(files.events, reader_options);
+  if (options.repeat < 1) throw ConfigError(fmt::format("--repeat must be at least 1, not {}", options.repeat));
+  std::unique_ptr<EventReader> reader =
+      options.repeat == 1
+          ? openEventReader(files.events, reader_options)
+          : repeatEvents([&] { return openEventReader(files.events, reader_options); }, options.repeat);
   summary.dataset_events = files.events;
   summary.format = reader->info().format;
   summary.width = reader->info().width;
@@ -106,7 +111,8 @@ RunSummary runDataset(const RunOptions& options,
   frontend::Frontend fe(config.frontend, summary.width, summary.height, camera.undistortionTable<float>());
   backend::EstimatorOptions estimator_options;
   estimator_options.config = config.backend;
-  estimator_options.focal_px = 0.5 * (camera.fx() + camera.fy());
+  // Pixel thresholds of the backend are in the frontend's (binned) pixels, like its measurements' noise.
+  estimator_options.focal_px = 0.5 * (camera.fx() + camera.fy()) / fe.binning();
   estimator_options.real_time = options.real_time;
   std::unique_ptr<backend::Estimator> estimator_ptr;
   if (options.backend != BackendKind::kWindow) {  // the full-history smoother baselines (docs/backend.md)
@@ -135,7 +141,10 @@ RunSummary runDataset(const RunOptions& options,
   summary.landmarks_written = writer.landmarksWritten();
   summary.measurements_written = writer.measurementsWritten();
 
-  if (files.groundtruth) {
+  if (files.groundtruth && options.repeat > 1) {
+    summary.warnings.push_back(fmt::format("ground truth not written: the stream was played {} times (--repeat)",
+                                           options.repeat));
+  } else if (files.groundtruth) {
     try {
       const StampedTrajectory gt = readGroundTruth(*files.groundtruth);
       StampedTrajectory span;
@@ -155,6 +164,8 @@ RunSummary runDataset(const RunOptions& options,
     }
   }
   summary.peak_memory_mb = peakMemoryMb();
+  if (!summary.estimator.segments.empty())
+    writer.writeText("segments.txt", backend::segmentsFileText(summary.estimator.segments));
   writer.writeText("stats.json", runStatsJson(summary, options) + "\n");
   return summary;
 }
@@ -189,6 +200,15 @@ std::string runSummaryText(const RunSummary& s) {
     t += fmt::format("initialized     at t = {:.3f} s after {} attempt(s), from two views {}\n",
                      nsToSeconds(e.initialized_at_ns), e.init_attempts,
                      backend::describeInitViews(e.init_views));
+  if (e.segments.size() > 1) {
+    std::string list;
+    for (const backend::Segment& seg : e.segments) {
+      list += fmt::format("{}{:.2f}-{:.2f} s ({})", list.empty() ? "" : ", ", nsToSeconds(seg.t0_ns),
+                          nsToSeconds(seg.t1_ns), backend::segmentEndName(seg.end));
+    }
+    t += fmt::format("segments        {}: {}; {} window knots dropped at a loss\n", e.segments.size(), list,
+                     e.knots_dropped_at_loss);
+  }
   t +=
       fmt::format("update time     median {:.2f} ms, p95 {:.2f} ms, max {:.2f} ms over {} updates\n",
                   s.update_time.median_ms, s.update_time.p95_ms, s.update_time.max_ms, s.update_time.updates);
@@ -217,7 +237,8 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("calibration", s.calibration)
       .add("first_event_s", nsToSeconds(p.first_t_ns))
       .add("last_event_s", nsToSeconds(p.last_t_ns))
-      .add("groundtruth_poses", static_cast<uint64_t>(s.groundtruth_poses.value_or(0)));
+      .add("groundtruth_poses", static_cast<uint64_t>(s.groundtruth_poses.value_or(0)))
+      .add("repeat", options.repeat);
 
   JsonObject frontend;
   frontend.add("events", f.events)
@@ -237,6 +258,8 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("measurements_without_undistortion", f.measurements_without_undistortion)
       .add("features_created", f.features_created)
       .add("max_active_features", f.max_active_features)
+      .add("harris_threshold_end", f.harris_threshold)
+      .add("harris_threshold_min", f.min_harris_threshold)
       .add("mean_active_features", f.meanActiveFeatures());
   JsonObject dropped;
   for (int i = 0; i < frontend::kDropReasonCount; ++i)
@@ -282,8 +305,26 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("landmarks_depth_rejected", e.landmarks_depth_rejected)
       .add("landmarks_depth_reset", e.landmarks_depth_reset)
       .add("scale_anchors", e.scale_anchors)
+      .add("knots_dropped_at_loss", e.knots_dropped_at_loss)
+      .add("measurements_before_reset", e.measurements_before_reset)
+      .add("measurements_non_finite", e.measurements_non_finite)
+      .add("max_median_residual_px", e.max_median_residual_px)
+      .add("max_depth_ratio", e.max_depth_ratio)
       .add("max_window_knots", e.max_window_knots)
       .add("last_prior_rank", e.last_prior_rank);
+
+  std::vector<JsonObject> segments;
+  for (const backend::Segment& seg : e.segments) {
+    JsonObject o;
+    o.add("initialized_at_s", nsToSeconds(seg.initialized_at_ns))
+        .add("start_s", nsToSeconds(seg.t0_ns))
+        .add("end_s", nsToSeconds(seg.t1_ns))
+        .add("knots", seg.knots)
+        .add("ended_at_s", nsToSeconds(seg.ended_at_ns))
+        .add("ended_by", backend::segmentEndName(seg.end));
+    segments.push_back(o);
+  }
+  estimator.addArray("segments", segments);
 
   JsonObject update;
   update.add("updates", s.update_time.updates)
@@ -313,6 +354,7 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("backend", s.backend_name)
       .add("config_digest", configDigest(s.config))
       .add("initialized", e.initialized)
+      .add("segments", static_cast<uint64_t>(e.segments.size()))
       .add("events", p.events)
       .add("event_time_span_s", p.spanSeconds())
       .add("features", f.features_created)

@@ -108,8 +108,10 @@ void RunFolderWriter::onUpdateRecords(const std::vector<backend::UpdateRecord>& 
   char t[32];
   for (const backend::UpdateRecord& r : records) {
     formatNsAsSeconds(r.event_t_ns, t);
-    fmt::print(timing_, "{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.4f}\n", t, r.window_knots, r.landmarks,
-               r.measurements, r.iterations, r.triangulate_ms, r.marginalize_ms, r.solve_ms, r.total_ms);
+    fmt::print(timing_, "{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}\n", t,
+               r.window_knots, r.landmarks, r.measurements, r.iterations, r.triangulate_ms, r.marginalize_ms,
+               r.solve_ms, r.total_ms, r.solve_build_ms, r.solve_residuals_ms, r.solve_jacobians_ms,
+               r.solve_linear_ms, r.solve_other_ms, r.outliers_ms);
     total_ms_.push_back(r.total_ms);
     max_window_knots_ = std::max(max_window_knots_, r.window_knots);
   }
@@ -207,13 +209,32 @@ JsonObject& JsonObject::addObject(const std::string& key, const JsonObject& obje
   return *this;
 }
 
+JsonObject& JsonObject::addArray(const std::string& key, const std::vector<JsonObject>& items) {
+  fields_.emplace_back(key, fmt::format("[{}", arrays_.size()));
+  nested_.push_back(true);
+  arrays_.push_back(items);
+  return *this;
+}
+
 std::string JsonObject::str(int indent) const {
   if (fields_.empty()) return "{}";
   const std::string pad(static_cast<std::size_t>(indent + 2), ' ');
   std::string out = "{\n";
   for (std::size_t i = 0; i < fields_.size(); ++i) {
     out += pad + quote(fields_[i].first) + ": ";
-    out += nested_[i] ? objects_[std::stoul(fields_[i].second)].str(indent + 2) : fields_[i].second;
+    const std::string& value = fields_[i].second;
+    if (!nested_[i]) {
+      out += value;
+    } else if (value[0] != '[') {
+      out += objects_[std::stoul(value)].str(indent + 2);
+    } else {
+      const std::vector<JsonObject>& items = arrays_[std::stoul(value.substr(1))];
+      out += "[";
+      for (std::size_t k = 0; k < items.size(); ++k) {
+        out += (k == 0 ? "\n" : ",\n") + pad + "  " + items[k].str(indent + 4);
+      }
+      out += items.empty() ? "]" : "\n" + pad + "]";
+    }
     out += i + 1 < fields_.size() ? ",\n" : "\n";
   }
   return out + std::string(static_cast<std::size_t>(indent), ' ') + "}";

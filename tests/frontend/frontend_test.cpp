@@ -71,6 +71,57 @@ TEST(Frontend, TracksCornersOfMovingSquaresWithThrottledMeasurements) {
   EXPECT_GE(matched, 2);
 }
 
+// Binning (FrontendConfig::binning): the auto rule, and a 2x2-binned frontend on a scene of twice the
+// size tracks like the plain one on the scene itself, with its measurements in sensor pixels.
+TEST(Frontend, BinningFollowsTheSensorSizeAndReportsSensorPixels) {
+  FrontendConfig automatic;
+  automatic.binning = 0;
+  EXPECT_EQ(Frontend::binningFor(automatic, 240, 180), 1);
+  EXPECT_EQ(Frontend::binningFor(automatic, 346, 260), 1);
+  EXPECT_EQ(Frontend::binningFor(automatic, 640, 480), 2);
+  EXPECT_EQ(Frontend::binningFor(automatic, 1280, 720), 4);
+  FrontendConfig fixed;
+  fixed.binning = 2;
+  EXPECT_EQ(Frontend::binningFor(fixed, 240, 180), 2);
+  fixed.binning = 3;
+  EXPECT_THROW(Frontend(fixed, 240, 180), ConfigError);
+
+  const int w = 320, h = 240;
+  const std::vector<MovingSquare> squares = {{60, 60, 60, 240, 80}, {200, 120, 56, -120, 100}};
+  const auto events = simulateSquares(squares, w, h, 0.3);
+  FrontendConfig config;
+  config.binning = 2;
+  Frontend fe(config, w, h);
+  EXPECT_EQ(fe.binning(), 2);
+  MeasurementCollector out;
+  for (const Event& e : events) fe.process(e, out);
+  fe.finish(out);
+  EXPECT_EQ(fe.stats().dropped_out_of_sensor, 0u);
+  const auto tracks = byFeature(out.measurements);
+  int matched = 0;
+  for (const auto& [id, ms] : tracks) {
+    if (ms.size() < 4) continue;
+    for (const TrackMeasurement& m : ms) {
+      ASSERT_GE(m.x, 0.f);
+      ASSERT_LT(m.x, float(w));
+      ASSERT_LT(m.y, float(h));
+    }
+    // Displacement in sensor pixels: the squares' velocities, not half of them.
+    const double dt = (ms.back().t_ns - ms.front().t_ns) * 1e-9;
+    const double dx = ms.back().x - ms.front().x, dy = ms.back().y - ms.front().y;
+    double best = 1e9;
+    for (const auto& s : squares) best = std::min(best, std::hypot(dx - s.vx * dt, dy - s.vy * dt));
+    EXPECT_LT(best, 5.0) << "feature " << id << " over " << dt << " s moved " << dx << " " << dy;
+    ++matched;
+  }
+  EXPECT_GE(matched, 2);
+  // An event beyond the sensor is dropped, one inside its last bin is not.
+  MeasurementCollector none;
+  fe.process(ev(400'000'000, w, 0, 1), none);
+  fe.process(ev(400'000'000, w - 1, h - 1, 1), none);
+  EXPECT_EQ(fe.stats().dropped_out_of_sensor, 1u);
+}
+
 TEST(Frontend, FeaturesLeavingTheImageAreDroppedAtTheBorder) {
   const int w = 120, h = 90;
   const std::vector<MovingSquare> squares = {{40, 30, 30, 250, 40}};  // leaves to the right

@@ -104,6 +104,11 @@ def units():
     t_gap = np.concatenate([np.arange(0.0, 4.0001, 0.05), np.arange(6.0, 10.0001, 0.05)])
     check(abs(matrix_run.coverage(t_gap, 0.0, 10.0) - 0.8) < 1e-9, "a 2 s hole is not covered")
     check(matrix_run.coverage([5.0], 0.0, 10.0) == 0.0, "a lone pose covers nothing")
+    stats = dict(estimator=dict(initialized=True, initialized_at_s=0.5, segments=[
+        dict(ended_by="event_gap"), dict(ended_by="residual"), dict(ended_by="end_of_stream")]))  # fmt: skip
+    scored = matrix_run.score(None, stats, np.zeros((0, 8)), np.zeros((0, 8)))
+    check(scored["segments"] == 3 and scored["segment_ends"] == ["event_gap", "residual"],
+          "the score counts the segments and says why each but the last ended")  # fmt: skip
     gt_t = np.arange(0.0, 3.0, 0.001)
     gt = np.zeros((len(gt_t), 8))
     gt[:, 0] = gt_t
@@ -130,7 +135,8 @@ def units():
     # the report: failures are the worst value and stay in the tables
     runs = os.path.join(tmp, "runs")
     for name, score in (
-        ("c1-tune", dict(status="ok", ate_pct=1.0, rte10_pct=5.0, vel_pct=20.0, init_s=0.5, coverage=0.9, init_attempts=3)),
+        ("c1-tune", dict(status="ok", ate_pct=1.0, rte10_pct=5.0, vel_pct=20.0, init_s=0.5, coverage=0.9, init_attempts=3,
+                         segments=2, segment_ends=["event_gap"])),
         ("c1-val", dict(status="failed", message="initialization never succeeded after 40 attempt(s)", coverage=0.0,
                         init_attempts=40)),
     ):  # fmt: skip
@@ -152,6 +158,7 @@ def units():
     text = open(md).read() if os.path.exists(md) else ""
     check(code == 0 and "initialization never succeeded" in text and "| c1-val |" in text,
           "the report lists the failed run with its message")  # fmt: skip
+    check("| 2 (event_gap) |" in text, "the report lists a run's segments and why each ended")
     check(os.path.exists(os.path.join(tmp, "report", "distributions.png")), "the report draws the distributions")
     doc = open(docs).read()
     check("old" not in doc and "before" in doc and "after" in doc and "| c1-tune |" in doc,

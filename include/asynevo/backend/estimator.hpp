@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include "asynevo/backend/segment.hpp"
 #include "asynevo/backend/trajectory.hpp"
 #include "asynevo/frontend/track_measurement.hpp"
 
@@ -26,14 +27,23 @@ struct UpdateRecord {
   int iterations = 0;
   double triangulate_ms = 0;
   double marginalize_ms = 0;
-  double solve_ms = 0;
+  double solve_ms = 0;       ///< the window solve and the outlier removal after it
+  // Parts of solve_ms (docs/backend.md, "Cost of one update"): building the factors and the Ceres problem,
+  // Ceres's residual and Jacobian evaluations and linear solves, the rest of Ceres (preprocessing, the
+  // trust-region bookkeeping), and the outlier removal.
+  double solve_build_ms = 0;
+  double solve_residuals_ms = 0;
+  double solve_jacobians_ms = 0;
+  double solve_linear_ms = 0;
+  double solve_other_ms = 0;
+  double outliers_ms = 0;
   double total_ms = 0;
   double final_cost = 0;
 };
 
 struct EstimatorStats {
-  bool initialized = false;
-  int64_t initialized_at_ns = 0;
+  bool initialized = false;       ///< initialized at least once
+  int64_t initialized_at_ns = 0;  ///< the first initialization
   uint64_t init_attempts = 0;
   std::string init_last_failure;  ///< why the last initialization attempt failed (with counts)
   /// The two views the estimator started from (valid once initialized).
@@ -69,6 +79,18 @@ struct EstimatorStats {
   uint64_t scale_anchors = 0;  ///< scale anchors renewed after the initial one left the window
   int max_window_knots = 0;
   int last_prior_rank = 0;
+  /// Segments of the estimate, oldest first (the last one is open while tracking). Empty for
+  /// estimators without tracking-loss detection.
+  std::vector<Segment> segments;
+  uint64_t knots_dropped_at_loss = 0;       ///< window knots not written when tracking was lost
+  uint64_t measurements_before_reset = 0;   ///< older than the latest tracking loss: dropped
+  uint64_t measurements_non_finite = 0;     ///< NaN or infinite coordinates: dropped
+  /// Largest median reprojection error of a window after a solve that did not end its segment [px]
+  /// (what loss_max_median_px is judged against).
+  double max_median_residual_px = 0;
+  /// Largest ratio max(d/d₀, d₀/d) of the median landmark depth to its value at the segment's start
+  /// that did not end the segment (what loss_depth_ratio is judged against).
+  double max_depth_ratio = 0;
 };
 
 /// "N ms apart: F features, I inliers, parallax P px, L landmarks": the two views initialization

@@ -50,6 +50,8 @@ class SlidingWindowEstimator : public Estimator {
   const EstimatorStats& stats() const override { return stats_; }
 
   const Trajectory& trajectory() const { return trajectory_; }
+  /// Initialized and not lost since: a segment is open (docs/method/tracking_loss.md).
+  bool tracking() const { return tracking_; }
   const TrackMap& tracks() const { return tracks_; }
   /// Feature ids whose trajectories the RMS test rejected (track_outlier_rms_px).
   const std::set<int64_t>& rejectedFeatures() const { return rejected_features_; }
@@ -66,6 +68,11 @@ class SlidingWindowEstimator : public Estimator {
                     std::vector<ProjectionSource>* projection_sources);
   /// One Levenberg–Marquardt solve of the window; returns iterations and final cost.
   std::pair<int, double> solve(int max_iterations);
+  /// Where the latest solve() spent its time (UpdateRecord's solve_* parts).
+  struct SolveTimes {
+    double build_ms = 0, residuals_ms = 0, jacobians_ms = 0, linear_ms = 0, other_ms = 0;
+  };
+  SolveTimes last_solve_times_;
   /// Triangulate, marginalize (when enabled), solve, remove outliers, record timing.
   void update(int64_t t_ns);
   /// Knots held constant in the solve (the frozen-history baseline overrides this).
@@ -86,6 +93,14 @@ class SlidingWindowEstimator : public Estimator {
     bool admits(const double* p_w) const;
   };
   DepthGate depthGate() const;
+  /// Median depth of the window's landmarks in the camera `T_c_w`; 0 with fewer than `min_count`.
+  double medianLandmarkDepth(const lie::SE3& T_c_w, std::size_t min_count) const;
+  /// After an update: ends the segment when tracking is lost (docs/method/tracking_loss.md).
+  void checkTracking(int64_t t_ns, int landmarks);
+  /// Ends the open segment for `reason` at event time t_ns: the window's finite knots up to
+  /// keep_until_ns are written, the rest dropped; the map is cleared and initialization starts again
+  /// with measurements from reset_ns on.
+  void loseTracking(SegmentEnd reason, int64_t t_ns, int64_t keep_until_ns, int64_t reset_ns);
   void marginalizeDynamic();
   void renewScaleAnchor();
   /// Marginalizes a landmark that leaves the estimation (rejected, lost) out of the prior, if in it.
@@ -117,6 +132,11 @@ class SlidingWindowEstimator : public Estimator {
   };
   std::vector<Anchor> anchors_;
   int64_t first_measurement_ns_ = -1;
+  bool tracking_ = false;  ///< a segment is open (initialized and not lost since)
+  int64_t reset_ns_ = std::numeric_limits<int64_t>::min();  ///< measurements before it are dropped
+  int64_t last_supported_ns_ = 0;   ///< newest knot time with at least loss_min_landmarks landmarks
+  double segment_depth_ = 0;        ///< median landmark depth at the segment's start (0: not yet known)
+  double last_median_residual_px_ = 0;  ///< of the window's measurements after the latest solve
   std::optional<int64_t> last_init_attempt_ns_;
   int64_t last_event_ns_ = 0;
 

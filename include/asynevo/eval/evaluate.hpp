@@ -28,6 +28,18 @@ struct EvalOptions {
   int64_t velocity_max_gt_gap_ns = kDefaultVelocityMaxGtGapNs;      ///< see computeVelocityErrors
 };
 
+/// One segment of a segmented estimate (segments.hpp), aligned on its own.
+struct SegmentResult {
+  int index = 0;
+  int64_t t0_ns = 0, t1_ns = 0;
+  std::string ended_by;
+  std::size_t poses = 0, matched = 0;
+  Similarity alignment;
+  double ate_rmse_m = 0.0;
+  bool scored = false;
+  std::string note;  ///< why it was not scored
+};
+
 struct EvalResult {
   AlignType align = AlignType::kSim3;
   int align_frames = -1;
@@ -50,6 +62,11 @@ struct EvalResult {
   std::string velocities_path;  ///< where the twists came from ("" for in-memory input)
 
   std::vector<std::string> warnings;  ///< things a user should know (shown by the CLI)
+
+  /// With a segments file (evaluateSegmented): each segment's own alignment and score, and the share
+  /// of the ground truth's time span the segments cover. Empty / unset otherwise.
+  std::vector<SegmentResult> segments;
+  std::optional<double> coverage;
 };
 
 /// Evaluates `est` against `gt`. Throws EvalError when nothing associates (with both time spans in
@@ -66,8 +83,9 @@ void addVelocityErrors(EvalResult& result, const StampedTrajectory& gt,
 
 /// Reads both files (TUM / ECD layout) and evaluates. Reader warnings (normalized quaternions) and
 /// association problems name the files. With `velocities_path` (a velocities.txt: t vx vy vz wx wy wz,
-/// body frame) also the velocity errors (addVelocityErrors).
+/// body frame) also the velocity errors (addVelocityErrors). With `segments_path` (a run's
+/// segments.txt) each segment is aligned on its own (evaluateSegmented).
 EvalResult evaluateFiles(const std::string& gt_path, const std::string& est_path, const EvalOptions& options,
-                         const std::string& velocities_path = "");
+                         const std::string& velocities_path = "", const std::string& segments_path = "");
 
 }  // namespace asynevo::eval

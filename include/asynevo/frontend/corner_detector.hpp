@@ -90,6 +90,8 @@ class CornerDetector {
   double harrisAt(int p, int x, int y) const;
 
   const DetectorParams& params() const { return params_; }
+  /// The FA-Harris threshold from now on (adaptive detection).
+  void setHarrisThreshold(double threshold) { params_.harris_threshold = threshold; }
 
  private:
   const SurfaceOfActiveEvents& sae_;

@@ -96,6 +96,8 @@ struct FrontendStats {
   int active_features = 0;
   int max_active_features = 0;
   double active_feature_seconds = 0;  ///< integral of the active count over event time
+  double harris_threshold = 0;        ///< the FA-Harris threshold now (adaptive detection)
+  double min_harris_threshold = 0;    ///< the lowest it went
   int64_t first_t_ns = 0;
   int64_t last_t_ns = 0;
 
@@ -116,6 +118,12 @@ class Frontend {
   Frontend(const Frontend&) = delete;
   Frontend& operator=(const Frontend&) = delete;
 
+  /// The binning factor b (FrontendConfig::binning with auto resolved) for a sensor of this size.
+  static int binningFor(const FrontendConfig& config, int width, int height);
+  /// b: the frontend works on a (width / b) x (height / b) image (FrontendConfig::binning).
+  int binning() const { return 1 << bin_shift_; }
+
+  /// An event in sensor pixels (binned here when binning > 1).
   void process(const Event& e, MeasurementSink& sink);
   void process(const EventPacket& packet, MeasurementSink& sink) {
     for (const Event& e : packet.events) process(e, sink);
@@ -143,7 +151,8 @@ class Frontend {
     return slot < 0 ? nullptr : slots_[static_cast<std::size_t>(slot)].tracker.get();
   }
 
-  /// Pixels the hot-pixel filter masked (x, y), in the order found; empty when it is off.
+  /// Pixels the hot-pixel filter masked (x, y), in the order found; empty when it is off. With binning,
+  /// the filter works on bins: each is given by its first sensor pixel (here and in dominantPixels).
   std::vector<std::pair<int, int>> hotPixels() const;
 
   struct PixelCount {
@@ -214,6 +223,8 @@ class Frontend {
   };
 
   void housekeeping(int64_t t_ns, MeasurementSink& sink);
+  /// Adaptive detection (harris_threshold_floor): one step of the threshold toward more or fewer corners.
+  void adaptDetectionThreshold(int64_t t_ns);
   void updateCommonRoll();
   /// A feature's rotation since initialization minus the common rotation since then (wrapped).
   float rollDeparture(const Slot& s) const;
@@ -231,7 +242,10 @@ class Frontend {
   static constexpr int kCellShift = 4;  ///< 16 px cells >= the tracker radius (15): 3x3 cells suffice
 
   FrontendConfig config_;
-  int width_;
+  int bin_shift_;       ///< log2 of the binning factor
+  int sensor_width_;    ///< the sensor's size (events arrive in its pixels)
+  int sensor_height_;
+  int width_;           ///< the binned image the frontend works on
   int height_;
   UndistortionTable<float> undistortion_;
   std::unique_ptr<HotPixelFilter> hot_pixel_filter_;        ///< null when off
@@ -259,6 +273,7 @@ class Frontend {
   int64_t newest_t_ns_ = 0;
   bool started_ = false;
   int64_t next_housekeeping_ns_ = 0;
+  int64_t next_threshold_update_ns_ = 0;  ///< adaptive detection: event time of the next step
   int64_t last_housekeeping_ns_ = 0;
   // Parameters in ns / px, derived once.
   int64_t max_reversal_ns_;

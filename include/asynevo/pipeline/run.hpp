@@ -36,6 +36,10 @@ struct RunOptions {
   std::string out;  ///< run folder
   bool real_time = false;
   double speed = 1.0;  ///< real time: playback rate
+  /// Play the event stream this many times back to back (io/repeat_reader.hpp): a long stream from a
+  /// short recording, for soak tests. Ground truth is then not written (the camera jumps back at
+  /// every seam).
+  int repeat = 1;
 };
 
 struct RunSummary {

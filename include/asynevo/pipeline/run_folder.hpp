@@ -27,7 +27,8 @@ namespace asynevo::pipeline {
 
 /// Header of timing.csv (the row layout of RunFolderWriter::onUpdateRecords).
 constexpr const char* kTimingCsvHeader =
-    "t_s,window_knots,landmarks,measurements,iterations,triangulate_ms,marginalize_ms,solve_ms,total_ms";
+    "t_s,window_knots,landmarks,measurements,iterations,triangulate_ms,marginalize_ms,solve_ms,total_ms,"
+    "solve_build_ms,solve_residuals_ms,solve_jacobians_ms,solve_linear_ms,solve_other_ms,outliers_ms";
 
 /// Median, 95th percentile and maximum of the backend's per-update total time.
 struct UpdateTimeStats {
@@ -92,6 +93,8 @@ class JsonObject {
   JsonObject& add(const std::string& key, int value) { return add(key, static_cast<int64_t>(value)); }
   JsonObject& add(const std::string& key, bool value);
   JsonObject& addObject(const std::string& key, const JsonObject& object);
+  /// An array of objects (one per line).
+  JsonObject& addArray(const std::string& key, const std::vector<JsonObject>& items);
   /// Pretty text with `indent` spaces of nesting.
   std::string str(int indent = 0) const;
 
@@ -101,6 +104,7 @@ class JsonObject {
   std::vector<std::pair<std::string, std::string>> fields_;  ///< key, JSON value text
   std::vector<bool> nested_;
   std::vector<JsonObject> objects_;
+  std::vector<std::vector<JsonObject>> arrays_;  ///< field text "[k" names arrays_[k]
 };
 
 }  // namespace asynevo::pipeline

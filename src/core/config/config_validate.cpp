@@ -37,6 +37,10 @@ void FrontendConfig::validate() const {
     throw ConfigError(fmt::format("configuration value frontend.detector = '{}' is not one of fa_harris, arc_star",
                                   detector));
   requireRange("frontend.harris_threshold", harris_threshold, -1e9, 1e9);
+  requireRange("frontend.harris_threshold_floor", harris_threshold_floor, 0.05, 1.0);
+  if (binning != 0 && binning != 1 && binning != 2 && binning != 4 && binning != 8)
+    throw ConfigError(fmt::format("configuration value frontend.binning = {} is not one of 0 (auto), 1, 2, 4, 8",
+                                  binning));
   requireRange("frontend.harris_k", harris_k, 0.0, 0.25);
   requireRange("frontend.harris_latest", harris_latest, 1, 81);
   if (tracker != "haste_difference_star" && tracker != "haste_correlation_star")
@@ -98,6 +102,15 @@ void BackendConfig::validate() const {
   requireRange("backend.init_window_ms", init_window_ms, 10.0, 1e5);
   requireRange("backend.init_relax_after_ms", init_relax_after_ms, 0.0, 1e9);
   requireRange("backend.init_relaxed_fraction", init_relaxed_fraction, 0.1, 1.0);
+  requireRange("backend.loss_max_event_gap_ms", loss_max_event_gap_ms, 0.0, 1e9);
+  if (loss_max_event_gap_ms > 0 && loss_max_event_gap_ms < knot_dt_ms)
+    throw ConfigError(fmt::format("configuration value backend.loss_max_event_gap_ms = {} must be 0 (off) or at "
+                                  "least backend.knot_dt_ms = {}",
+                                  loss_max_event_gap_ms, knot_dt_ms));
+  requireRange("backend.loss_min_landmarks", loss_min_landmarks, 0, 100000);
+  requireRange("backend.loss_unsupported_ms", loss_unsupported_ms, 0.0, 1e9);
+  requireRange("backend.loss_max_median_px", loss_max_median_px, 0.0, 1e6);
+  if (loss_depth_ratio != 0.0) requireRange("backend.loss_depth_ratio", loss_depth_ratio, 1.5, 1e6);
 }
 
 void Config::validate() const {

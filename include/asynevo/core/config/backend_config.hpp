@@ -65,6 +65,16 @@ struct BackendConfig {
   double init_relax_after_ms = 1000.0;
   double init_relaxed_fraction = 0.8;
 
+  // --- tracking loss (docs/method/tracking_loss.md): the segment ends, the estimator starts again ---
+  double loss_max_event_gap_ms = 250.0;  ///< a gap in the events longer than this ends the segment (0 = off)
+  int loss_min_landmarks = 5;            ///< a window with fewer landmarks is unsupported
+  double loss_unsupported_ms = 0.0;      ///< unsupported for longer than this ends the segment (0 = off)
+  /// Median reprojection error of the newest knot interval's measurements after a solve above this ends
+  /// the segment (0 = off).
+  double loss_max_median_px = 3.0;
+  /// The median landmark depth leaving [d₀/r, d₀·r] (d₀: at the segment's start) ends it (0 = off).
+  double loss_depth_ratio = 20.0;
+
   template <class V>
   void visit(V& v) {
     v("knot_dt_ms", knot_dt_ms, "knot spacing in event time [ms] (20-50 ms; keep >= a few ms)");
@@ -102,6 +112,16 @@ struct BackendConfig {
       "initialization: event time of failed attempts after which the feature and inlier counts are relaxed [ms]");
     v("init_relaxed_fraction", init_relaxed_fraction,
       "initialization: factor on init_min_features and init_min_inliers once relaxed (1 = never relax)");
+    v("loss_max_event_gap_ms", loss_max_event_gap_ms,
+      "tracking loss: a gap in the events longer than this ends the segment [ms] (0 = off)");
+    v("loss_min_landmarks", loss_min_landmarks, "tracking loss: fewer landmarks in the window is unsupported");
+    v("loss_unsupported_ms", loss_unsupported_ms,
+      "tracking loss: unsupported for longer than this ends the segment [ms] (0 = off)");
+    v("loss_max_median_px", loss_max_median_px,
+      "tracking loss: a median reprojection error of the newest measurements above this after a solve ends the "
+      "segment [px] (0 = off)");
+    v("loss_depth_ratio", loss_depth_ratio,
+      "tracking loss: the median landmark depth changing by more than this factor ends the segment (0 = off)");
   }
   void validate() const;
 };

@@ -19,12 +19,22 @@ struct FrontendConfig {
   double hot_pixel_factor = 10.0;       ///< ...hot: count > factor x (mean count of the 8 neighbours + 1)
   double hot_pixel_min_rate_hz = 20.0;  ///< ...and at least this rate
 
+  /// Events are binned b x b (pixel (x, y) -> (x / b, y / b)) before anything else, so the frontend works
+  /// on a smaller image: 1, 2, 4 or 8; 0 = auto, the smallest power of two that brings the sensor's
+  /// longer side to at most 400 px (DAVIS240C/346: 1, 640x480: 2, 1280x720: 4). Pixel-valued settings
+  /// (here and the backend's) are then in binned pixels; measurements are reported in sensor pixels.
+  int binning = 1;
+
   // --- refractory filter and SAE -------------------------------------------------------------
   double refractory_period_ms = 50.0;  ///< (ref) same-polarity refractory filter dt_f
 
   // --- corner detector --------------------------------------------------------------------------
   std::string detector = "fa_harris";  ///< "fa_harris" or "arc_star"
   double harris_threshold = 8.0;       ///< (ref) FA-Harris score threshold
+  /// Adaptive detection: while fewer than 3/4 of max_features are active, the FA-Harris threshold falls
+  /// by 5 % per 10 ms of event time, down to this fraction of harris_threshold; from 9/10 active it
+  /// rises back at the same rate. 1 = a fixed threshold.
+  double harris_threshold_floor = 1.0;
   double harris_k = 0.04;              ///< (ref) Harris k
   int harris_latest = 25;              ///< (ref) newest SAE pixels in the 9x9 window forming the patch
 
@@ -73,12 +83,18 @@ struct FrontendConfig {
     v("hot_pixel_window_ms", hot_pixel_window_ms, "hot-pixel filter: counting window of event time (ms, > 0)");
     v("hot_pixel_factor", hot_pixel_factor, "hot-pixel filter: how far above its neighbours a hot pixel fires");
     v("hot_pixel_min_rate_hz", hot_pixel_min_rate_hz, "hot-pixel filter: the least rate of a hot pixel (Hz)");
+    v("binning", binning,
+      "bin events b x b before the frontend (1, 2, 4, 8; 0 = auto: the sensor's longer side to <= 400 px); "
+      "pixel settings are then in binned pixels");
     v("refractory_period_ms", refractory_period_ms,
       "refractory filter: an event is ignored by the detector when its pixel fired with the same "
       "polarity less than this ago and did not flip polarity since (Arc*/FA-Harris: 50 ms)");
     v("detector", detector, "corner detector: fa_harris (Arc* candidate + Harris refinement) or arc_star");
     v("harris_threshold", harris_threshold,
       "FA-Harris: a candidate is a corner when the Harris score of its binary 9x9 patch exceeds this");
+    v("harris_threshold_floor", harris_threshold_floor,
+      "FA-Harris: with fewer than 3/4 of max_features active the threshold falls (5 % per 10 ms) down to this "
+      "fraction of harris_threshold, and rises back from 9/10 active (1 = fixed)");
     v("harris_k", harris_k, "FA-Harris: k of the Harris score A*C - B^2 - k*(A+C)^2");
     v("harris_latest", harris_latest,
       "FA-Harris: the binary patch holds this many newest pixels of the 9x9 window (reference: 25)");

@@ -1,0 +1,9 @@
+// Fuzz harness: the ECD calib.txt parser (docs/reliability.md).
+#include "asynevo/io/calibration_io.hpp"
+#include "calibration_harness.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const asynevo::fuzz::InputFile input(data, size, ".txt");
+  asynevo::fuzz::rejectCleanly([&] { asynevo::fuzz::requireValidCamera(asynevo::readEcdCalibration(input.path())); });
+  return 0;
+}

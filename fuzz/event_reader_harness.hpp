@@ -1,0 +1,31 @@
+#pragma once
+// One event-file format through the streaming reader, packet by packet, checking every accepted event.
+
+#include <limits>
+
+#include "asynevo/io/event_reader.hpp"
+#include "fuzz_input.hpp"
+
+namespace asynevo::fuzz {
+
+inline int fuzzEventReader(const uint8_t* data, std::size_t size, const char* format, const char* suffix) {
+  const InputFile input(data, size, suffix);
+  rejectCleanly([&] {
+    ReaderOptions options;
+    options.format = format;
+    options.packet_size = 256;  // many packets: exercise the readers' chunk boundaries
+    auto reader = openEventReader(input.path(), options);
+    const StreamInfo& info = reader->info();
+    require(info.width > 0 && info.height > 0, "a reader accepted a stream without a sensor size");
+    EventPacket packet;
+    int64_t last = std::numeric_limits<int64_t>::min();
+    while (reader->read(packet)) {
+      require(!packet.empty(), "read() returned true with an empty packet");
+      requireValidEvents(packet, info.width, info.height, last);
+    }
+    require(packet.empty(), "read() returned false with events in the packet");
+  });
+  return 0;
+}
+
+}  // namespace asynevo::fuzz

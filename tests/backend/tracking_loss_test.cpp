@@ -1,0 +1,209 @@
+// Tracking loss and segments (docs/method/tracking_loss.md): what ends a segment, what the estimator
+// writes around a loss, and that it starts again.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "asynevo/backend/sliding_window_estimator.hpp"
+#include "asynevo/core/config/config.hpp"
+#include "estimator_harness.hpp"
+
+namespace asynevo::backend {
+namespace {
+
+using testing::SyntheticScene;
+
+/// Drives the estimator as the pipeline does: a marker every millisecond in which events arrive, none
+/// while the stream is silent (measurements double as the events here).
+testing::EstimatorRun driveWithGaps(SlidingWindowEstimator& estimator, const std::vector<TrackMeasurement>& ms,
+                                    double duration_s, int64_t silent_from_ns, int64_t silent_to_ns) {
+  testing::EstimatorRun run;
+  std::size_t next = 0;
+  for (int64_t t = 0; t <= std::llround(duration_s * 1e9); t += 1'000'000) {
+    if (t >= silent_from_ns && t < silent_to_ns) continue;
+    while (next < ms.size() && ms[next].t_ns <= t) estimator.addMeasurement(ms[next++]);
+    estimator.advanceTo(t);
+    for (auto& k : estimator.takeFinalKnots()) run.knots.push_back(k);
+  }
+  estimator.finish();
+  for (auto& k : estimator.takeFinalKnots()) run.knots.push_back(k);
+  run.stats = estimator.stats();
+  return run;
+}
+
+std::vector<Knot> knotsIn(const std::vector<Knot>& knots, const Segment& s) {
+  std::vector<Knot> out;
+  for (const Knot& k : knots)
+    if (k.t_ns >= s.t0_ns && k.t_ns <= s.t1_ns) out.push_back(k);
+  return out;
+}
+
+void expectFiniteAndIncreasing(const std::vector<Knot>& knots) {
+  for (std::size_t i = 0; i < knots.size(); ++i) {
+    ASSERT_TRUE(knots[i].T_w_c().matrix().allFinite()) << i;
+    ASSERT_TRUE(knots[i].twist().allFinite()) << i;
+    if (i > 0) {
+      ASSERT_GT(knots[i].t_ns, knots[i - 1].t_ns) << i;
+    }
+  }
+}
+
+TEST(TrackingLoss, AnUninterruptedStreamIsOneSegmentHoldingEveryKnot) {
+  const SyntheticScene scene(150);
+  const auto ms = scene.measurements(2.0, 0.01, 0.4, 0.3);
+  SlidingWindowEstimator estimator(testing::syntheticSceneOptions());
+  const auto run = testing::driveEstimator(estimator, ms, 2.0);
+  ASSERT_TRUE(run.stats.initialized) << run.stats.init_last_failure;
+  ASSERT_EQ(run.stats.segments.size(), 1u);
+  const Segment& s = run.stats.segments[0];
+  EXPECT_EQ(s.end, SegmentEnd::kEndOfStream);
+  EXPECT_EQ(s.knots, run.knots.size());
+  EXPECT_EQ(s.t0_ns, run.knots.front().t_ns);
+  EXPECT_EQ(s.t1_ns, run.knots.back().t_ns);
+  EXPECT_EQ(s.initialized_at_ns, run.stats.initialized_at_ns);
+  EXPECT_EQ(run.stats.knots_dropped_at_loss, 0u);
+}
+
+TEST(TrackingLoss, AGapInTheEventsEndsTheSegmentAndTheEstimatorStartsAgainAfterIt) {
+  const SyntheticScene scene(150);
+  const double duration = 4.0;
+  const int64_t gap_from = 1'600'000'000, gap_to = 2'000'000'000;  // 400 ms without events
+  std::vector<TrackMeasurement> ms;
+  for (const TrackMeasurement& m : scene.measurements(duration, 0.01, 0.4, 0.3))
+    if (m.t_ns < gap_from || m.t_ns >= gap_to) ms.push_back(m);
+  SlidingWindowEstimator estimator(testing::syntheticSceneOptions());
+  const auto run = driveWithGaps(estimator, ms, duration, gap_from, gap_to);
+  ASSERT_EQ(run.stats.segments.size(), 2u) << run.stats.init_last_failure;
+  const Segment& a = run.stats.segments[0];
+  const Segment& b = run.stats.segments[1];
+  EXPECT_EQ(a.end, SegmentEnd::kEventGap);
+  EXPECT_EQ(b.end, SegmentEnd::kEndOfStream);
+  EXPECT_LT(a.t1_ns, gap_from);  // nothing estimated inside the gap
+  EXPECT_GE(b.t0_ns, gap_to);
+  EXPECT_GE(b.initialized_at_ns, gap_to);
+  EXPECT_EQ(a.knots + b.knots, run.knots.size());
+  expectFiniteAndIncreasing(run.knots);
+  // Each segment on its own alignment is as good as an uninterrupted run.
+  for (const Segment& s : run.stats.segments) {
+    const auto knots = knotsIn(run.knots, s);
+    ASSERT_GT(knots.size(), 10u);
+    const testing::Accuracy acc = testing::accuracy(knots);
+    EXPECT_LT(acc.ate_rmse, 0.03 * acc.path_length) << "segment from " << s.t0_ns * 1e-9 << " s";
+  }
+}
+
+TEST(TrackingLoss, WithTheGapTestOffTheWindowBridgesTheGap) {
+  const SyntheticScene scene(150);
+  const double duration = 3.0;
+  const int64_t gap_from = 1'600'000'000, gap_to = 2'000'000'000;
+  std::vector<TrackMeasurement> ms;
+  for (const TrackMeasurement& m : scene.measurements(duration, 0.01, 0.4, 0.3))
+    if (m.t_ns < gap_from || m.t_ns >= gap_to) ms.push_back(m);
+  EstimatorOptions options = testing::syntheticSceneOptions();
+  options.config.loss_max_event_gap_ms = 0;
+  SlidingWindowEstimator estimator(options);
+  const auto run = driveWithGaps(estimator, ms, duration, gap_from, gap_to);
+  ASSERT_GE(run.stats.segments.size(), 1u);
+  EXPECT_NE(run.stats.segments[0].end, SegmentEnd::kEventGap);
+}
+
+TEST(TrackingLoss, NonFiniteMeasurementsAreDroppedAndCounted) {
+  const SyntheticScene scene(150);
+  auto ms = scene.measurements(2.0, 0.01, 0.4, 0.3);
+  uint64_t poisoned = 0;
+  for (std::size_t i = 0; i < ms.size(); i += 97) {
+    ms[i].xn = (i % 2) ? std::numeric_limits<float>::quiet_NaN() : std::numeric_limits<float>::infinity();
+    ++poisoned;
+  }
+  SlidingWindowEstimator estimator(testing::syntheticSceneOptions());
+  const auto run = testing::driveEstimator(estimator, ms, 2.0);
+  ASSERT_TRUE(run.stats.initialized) << run.stats.init_last_failure;
+  EXPECT_EQ(run.stats.measurements_non_finite, poisoned);
+  ASSERT_EQ(run.stats.segments.size(), 1u);
+  expectFiniteAndIncreasing(run.knots);
+}
+
+TEST(TrackingLoss, MeasurementsThatStopFittingEndTheSegmentByResidualWithoutWritingTheBadWindow) {
+  const SyntheticScene scene(150);
+  auto ms = scene.measurements(3.0, 0.01, 0.4, 0.3);
+  // From 1.5 s on, every measurement jumps by up to ±15 px: no scene explains them any more.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> jump(-0.075f, 0.075f);
+  for (TrackMeasurement& m : ms) {
+    if (m.t_ns < 1'500'000'000) continue;
+    m.xn += jump(rng);
+    m.yn += jump(rng);
+  }
+  EstimatorOptions options = testing::syntheticSceneOptions();
+  options.config.track_outlier_rms_px = 0;  // keep the trajectories: the test is about the window
+  SlidingWindowEstimator estimator(options);
+  const auto run = testing::driveEstimator(estimator, ms, 3.0);
+  ASSERT_TRUE(run.stats.initialized) << run.stats.init_last_failure;
+  ASSERT_GE(run.stats.segments.size(), 1u);
+  const Segment& first = run.stats.segments[0];
+  EXPECT_EQ(first.end, SegmentEnd::kResidual);
+  EXPECT_GE(first.ended_at_ns, 1'500'000'000);
+  EXPECT_GT(run.stats.knots_dropped_at_loss, 0u);
+  expectFiniteAndIncreasing(run.knots);
+  // What was written of the first segment comes from before the jumps and is accurate.
+  const auto kept = knotsIn(run.knots, first);
+  ASSERT_GT(kept.size(), 5u);
+  EXPECT_LT(kept.back().t_ns, first.ended_at_ns);
+}
+
+TEST(TrackingLoss, UnsupportedWindowsEndTheSegmentOnlyWhenEnabled) {
+  const SyntheticScene scene(150);
+  const double duration = 3.0;
+  // After 1.5 s every feature is seen only once: no new landmark, and the old ones leave the window.
+  std::vector<TrackMeasurement> ms;
+  for (const TrackMeasurement& m : scene.measurements(duration, 0.01, 0.4, 0.3))
+    if (m.t_ns < 1'500'000'000 || m.feature_id % 7 == 0) ms.push_back(m);
+  for (const double unsupported_ms : {0.0, 300.0}) {
+    EstimatorOptions options = testing::syntheticSceneOptions();
+    options.config.loss_unsupported_ms = unsupported_ms;
+    options.config.loss_min_landmarks = 30;
+    SlidingWindowEstimator estimator(options);
+    const auto run = testing::driveEstimator(estimator, ms, duration);
+    ASSERT_GE(run.stats.segments.size(), 1u) << run.stats.init_last_failure;
+    if (unsupported_ms == 0) {
+      for (const Segment& s : run.stats.segments) EXPECT_NE(s.end, SegmentEnd::kUnsupported);
+    } else {
+      EXPECT_EQ(run.stats.segments[0].end, SegmentEnd::kUnsupported);
+    }
+    expectFiniteAndIncreasing(run.knots);
+  }
+}
+
+TEST(TrackingLoss, ConfigurationIsValidated) {
+  BackendConfig c;
+  c.loss_max_event_gap_ms = 10;  // shorter than a knot interval
+  EXPECT_THROW(c.validate(), ConfigError);
+  c = BackendConfig();
+  c.loss_depth_ratio = 1.2;
+  EXPECT_THROW(c.validate(), ConfigError);
+  c = BackendConfig();
+  c.loss_max_median_px = -1;
+  EXPECT_THROW(c.validate(), ConfigError);
+  c = BackendConfig();
+  c.loss_max_event_gap_ms = 0;
+  c.loss_depth_ratio = 0;
+  c.loss_max_median_px = 0;
+  EXPECT_NO_THROW(c.validate());
+}
+
+TEST(TrackingLoss, SegmentsFileListsSegmentsWithKnots) {
+  std::vector<Segment> segments(3);
+  segments[0] = {1'000'000'000, 2'500'000'000, 31, 900'000'000, 2'600'000'000, SegmentEnd::kEventGap};
+  segments[1] = {0, 0, 0, 3'000'000'000, 3'100'000'000, SegmentEnd::kResidual};  // nothing written
+  segments[2] = {3'500'000'000, 9'950'000'000, 130, 3'400'000'000, 10'000'000'000, SegmentEnd::kEndOfStream};
+  EXPECT_EQ(segmentsFileText(segments),
+            "# segments of the estimate (docs/method/tracking_loss.md): each has its own map and scale\n"
+            "# index start_s end_s knots ended_by\n"
+            "0 1.000000000 2.500000000 31 event_gap\n"
+            "1 3.500000000 9.950000000 130 end_of_stream\n");
+}
+
+}  // namespace
+}  // namespace asynevo::backend
