@@ -56,7 +56,7 @@ struct FrontendConfig {
   double init_timeout_ms = 100.0;    ///< a tracker not initialized after this long is dropped
   double housekeeping_ms = 1.0;      ///< period (event time) of the idle/time-out/quality checks
   double min_anisotropy = 0.06;      ///< quality: min eigenvalue ratio of the window events' spread
-  double max_drift_px = 2.0;         ///< drift test: max offset of the first-template match (0 = off)
+  double max_drift_px = 4.0;         ///< drift test: max offset of the first-template match (0 = off)
   double drift_check_ms = 10.0;      ///< event-time period of a feature's drift test
   double max_rotation_deg = 20.0;  ///< rotation test: max departure from the features' common roll (0 = off)
   /// Neighbour-motion test: a feature whose displacement over the last neighbour_window_ms differs by more
