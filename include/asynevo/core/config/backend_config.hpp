@@ -62,8 +62,8 @@ struct BackendConfig {
   /// After this much event time of failed attempts (from the first measurement), the feature and
   /// inlier counts are multiplied by init_relaxed_fraction: a scene whose features live too briefly
   /// for 30 at both ends still starts, and one that has them keeps the stricter start.
-  double init_relax_after_ms = 1000.0;
-  double init_relaxed_fraction = 0.8;
+  double init_relax_after_ms = 500.0;
+  double init_relaxed_fraction = 0.5;
 
   // --- tracking loss (docs/method/tracking_loss.md): the segment ends, the estimator starts again ---
   double loss_max_event_gap_ms = 250.0;  ///< a gap in the events longer than this ends the segment (0 = off)
