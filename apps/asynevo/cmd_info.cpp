@@ -97,7 +97,7 @@ void addInfoCommand(CLI::App& app) {
   static InfoOptions options;  // CLI11 binds options to stable addresses; one parse per process
   auto* cmd = app.add_subcommand("info", "Describe a dataset: format, sensor, event count, time span, rates");
   cmd->add_option("--dataset", options.dataset, "ECD-style folder or event file")->required();
-  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt)");
+  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat)");
   cmd->add_option("--config", options.config, "configuration YAML (sensor size, time tolerance)");
   cmd->callback([] { runInfo(options); });
 }
