@@ -57,6 +57,20 @@ TEST(InfoCommand, ExplicitPropheseeFormatMustMatchTheHeader) {
       << result.output;
 }
 
+// A byte-built EVT 3.0 file: TIME_HIGH 1, ADDR_Y 3, ADDR_X 5 ON, EXT_TRIGGER, OTHERS.
+TEST(InfoCommand, CountsPropheseeTriggersAndSkippedWords) {
+  TempDir dir;
+  const auto path = dir.write("rec.raw", "% evt 3.0\n% geometry 64x32\n% end\n" +
+                                             std::string("\x01\x80\x03\x00\x05\x28\x01\xA0\x00\xE0", 10));
+  const auto result = runAsynevo("info --dataset " + path);
+  EXPECT_EQ(result.exit_code, 0) << result.output;
+  for (const char* line : {"format        evt3\n", "sensor        64 x 32\n", "events        1\n",
+                           "time span     0.004096000 .. 0.004096000 s", "triggers      1 external-trigger events",
+                           "skipped       1 encoded words"}) {
+    EXPECT_NE(result.output.find(line), std::string::npos) << "expected '" << line << "' in:\n" << result.output;
+  }
+}
+
 // Bad input built from the specification's bit layouts: exit code 1 and a message with file and byte offset.
 TEST(InfoCommand, BadPropheseeInputExitsWithOneAndNamesTheByte) {
   const std::string header = "% evt 3.0\n% geometry 64x32\n% end\n";  // 33 bytes
