@@ -13,6 +13,7 @@
 #include <climits>
 #include <filesystem>
 #include <initializer_list>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -546,6 +547,43 @@ TEST(PropheseeBadInput, EventsOutsideTheHeaderGeometry) {
   expectErrorAt(path, kDatHeader.size() + 2, "pixel (640, 0) is outside the 640x480 sensor");
   path = dir.write("p.dat", kDatHeader + kDatCdTypeSize + datRecord(1, 1, 1, 7));
   expectErrorAt(path, kDatHeader.size() + 2, "polarity 7 is not one of 0, 1, -1");
+}
+
+// Corrupt data never crashes a reader: every random byte string after a valid header either decodes or
+// stops with an InputError that names the file and a byte offset inside it.
+TEST(PropheseeBadInput, RandomBytesDecodeOrFailCleanly) {
+  TempDir dir;
+  std::minstd_rand rng(22);
+  const std::pair<std::string, std::string> headers[] = {
+      {kEvt3Header, "evt3"}, {kEvt2Header, "evt2"}, {kDatHeader + kDatCdTypeSize, "dat"}, {"% evt 3.0\n", "evt3"}};
+  int failures = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const auto& [header, format] = headers[trial % 4];
+    std::string bytes = header;
+    const std::size_t size = rng() % 300;
+    for (std::size_t i = 0; i < size; ++i) bytes += static_cast<char>(rng() & 0xFF);
+    const auto path = dir.write("fuzz.bin", bytes);
+    for (const int packet_size : {1, 7, 65536}) {
+      ReaderOptions options = withPacketSize(packet_size);
+      options.format = trial % 8 < 4 ? "auto" : format;
+      try {
+        auto reader = openEventReader(path, options);
+        EventPacket packet;
+        while (reader->read(packet)) {
+          for (const Event& e : packet.events) {
+            ASSERT_LT(e.x, reader->info().width);
+            ASSERT_LT(e.y, reader->info().height);
+          }
+        }
+      } catch (const InputError& e) {
+        ++failures;
+        const std::string message = e.what();
+        ASSERT_EQ(message.rfind(path + ": byte ", 0), 0u) << message;
+        EXPECT_LE(e.location(), bytes.size()) << message;
+      }
+    }
+  }
+  EXPECT_GT(failures, 0);  // the random data does hit the error paths
 }
 
 }  // namespace
