@@ -67,6 +67,12 @@ void runInfo(const InfoOptions& options) {
              info.width * info.height, 100.0 * static_cast<double>(stats.active_pixels) / (info.width * info.height),
              stats.max_pixel_events);
   if (stats.clamped_times > 0) fmt::print("clamped       {} events whose time went slightly backwards\n", stats.clamped_times);
+  if (reader->stats().trigger_events > 0)
+    fmt::print("triggers      {} external-trigger events (counted, not used)\n", reader->stats().trigger_events);
+  if (reader->stats().ignored_words > 0) {
+    fmt::print("skipped       {} encoded words (vendor extension words, events before the first time base)\n",
+               reader->stats().ignored_words);
+  }
   if (files.calibration) {
     const CameraModel camera = readCalibration(*files.calibration, info.width, info.height);
     fmt::print("calibration   {}\n              {}\n", *files.calibration, camera.summary());
@@ -97,7 +103,7 @@ void addInfoCommand(CLI::App& app) {
   static InfoOptions options;  // CLI11 binds options to stable addresses; one parse per process
   auto* cmd = app.add_subcommand("info", "Describe a dataset: format, sensor, event count, time span, rates");
   cmd->add_option("--dataset", options.dataset, "ECD-style folder or event file")->required();
-  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt)");
+  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat)");
   cmd->add_option("--config", options.config, "configuration YAML (sensor size, time tolerance)");
   cmd->callback([] { runInfo(options); });
 }

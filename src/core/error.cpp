@@ -13,6 +13,8 @@ std::string describe(const std::string& file, InputError::LocationKind kind, uin
       return fmt::format("{}:{}: {}", file, location, message);
     case InputError::LocationKind::kRecord:
       return fmt::format("{}: record {}: {}", file, location, message);
+    case InputError::LocationKind::kByte:
+      return fmt::format("{}: byte {}: {}", file, location, message);
     case InputError::LocationKind::kNone:
       break;
   }

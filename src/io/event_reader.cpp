@@ -10,6 +10,7 @@
 #include "ecd_text_reader.hpp"
 #include "event_file_reader.hpp"
 #include "mvsec_reader.hpp"
+#include "prophesee_reader.hpp"
 
 namespace asynevo {
 
@@ -25,8 +26,22 @@ std::string detectFormat(const std::string& path) {
   if (n == 0) throw InputError(path, "the event file is empty");
   if (n >= 8 && std::memcmp(head, kHdf5Signature, 8) == 0) return "mvsec";
   if (n >= 8 && std::memcmp(head, kEventFileMagic, 8) == 0) return "aevt";
-  if (std::memchr(head, '\0', n) != nullptr)
-    throw InputError(path, "unknown binary format (supported: ECD text, MVSEC HDF5, AsynEVO .aevt)");
+  if (n >= 2 && head[0] == '%' && head[1] == ' ') {  // a Prophesee RAW or DAT header ("% keyword value" lines)
+    const io_detail::PropheseeHeader header = io_detail::readPropheseeHeader(file.get(), path);
+    const std::string format = io_detail::propheseeFormatFromHeader(header, path);
+    if (format.empty()) {
+      throw InputError(path,
+                       "a '%' header that names no Prophesee format (no 'evt' or 'format' line of a RAW file, no "
+                       "'Data file containing' line of a DAT file); give --format evt3, evt2 or dat");
+    }
+    return format;
+  }
+  if (std::memchr(head, '\0', n) != nullptr) {
+    throw InputError(path,
+                     "unknown binary format (supported: ECD text, MVSEC HDF5, AsynEVO .aevt, Prophesee RAW EVT 3.0 "
+                     "and EVT 2.0, Prophesee DAT; a RAW or DAT file without its '%' header needs --format evt3, "
+                     "evt2 or dat)");
+  }
   return "ecd";
 }
 
@@ -38,7 +53,11 @@ std::unique_ptr<EventReader> openEventReader(const std::string& path, const Read
   if (format == "ecd") return std::make_unique<io_detail::EcdTextReader>(path, options);
   if (format == "mvsec") return std::make_unique<io_detail::MvsecReader>(path, options);
   if (format == "aevt") return std::make_unique<io_detail::EventFileReader>(path, options);
-  throw InputError(path, "unknown event format '" + format + "' (supported: auto, ecd, mvsec, aevt)");
+  if (format == "evt3") return std::make_unique<io_detail::Evt3Reader>(path, options);
+  if (format == "evt2") return std::make_unique<io_detail::Evt2Reader>(path, options);
+  if (format == "dat") return std::make_unique<io_detail::DatReader>(path, options);
+  throw InputError(path,
+                   "unknown event format '" + format + "' (supported: auto, ecd, mvsec, aevt, evt3, evt2, dat)");
 }
 
 std::vector<Event> readAllEvents(const std::string& path, const ReaderOptions& options) {

@@ -20,6 +20,13 @@ TEST(InputError, NamesFileAndRecord) {
   EXPECT_EQ(e.locationKind(), InputError::LocationKind::kRecord);
 }
 
+TEST(InputError, NamesFileAndByteOffset) {
+  const InputError e = InputError::atByte("rec.raw", 1234, "unknown EVT 3.0 word type 0001");
+  EXPECT_STREQ(e.what(), "rec.raw: byte 1234: unknown EVT 3.0 word type 0001");
+  EXPECT_EQ(e.locationKind(), InputError::LocationKind::kByte);
+  EXPECT_EQ(e.location(), 1234u);
+}
+
 TEST(InputError, FileOnly) {
   const InputError e("calib.txt", "cannot open file");
   EXPECT_STREQ(e.what(), "calib.txt: cannot open file");

@@ -1,6 +1,7 @@
 #pragma once
 // Errors with context. Every problem with user input names where it was found: the file and the
-// line (text formats) or the record (binary formats), so the user can open the file and look.
+// line (text formats), the record (binary formats of fixed-size records) or the byte offset (binary
+// streams of variable-length words, e.g. Prophesee RAW), so the user can open the file and look.
 
 #include <cstdint>
 #include <stdexcept>
@@ -15,10 +16,10 @@ class Error : public std::runtime_error {
 };
 
 /// Bad or unreadable input: a file that is missing, truncated, malformed or inconsistent.
-/// what() reads "<file>:<line>: <message>" or "<file>: record <n>: <message>".
+/// what() reads "<file>:<line>: <message>", "<file>: record <n>: <message>" or "<file>: byte <n>: <message>".
 class InputError : public Error {
  public:
-  enum class LocationKind { kNone, kLine, kRecord };
+  enum class LocationKind { kNone, kLine, kRecord, kByte };
 
   InputError(std::string file, std::string message);
   InputError(std::string file, LocationKind kind, uint64_t location, std::string message);
@@ -29,10 +30,14 @@ class InputError : public Error {
   static InputError atRecord(std::string file, uint64_t record, std::string message) {
     return InputError(std::move(file), LocationKind::kRecord, record, std::move(message));
   }
+  static InputError atByte(std::string file, uint64_t offset, std::string message) {
+    return InputError(std::move(file), LocationKind::kByte, offset, std::move(message));
+  }
 
   const std::string& file() const { return file_; }
   LocationKind locationKind() const { return kind_; }
-  /// Line number (1-based) or record index (0-based), depending on locationKind().
+  /// Line number (1-based), record index (0-based) or byte offset from the file's start (0-based),
+  /// depending on locationKind().
   uint64_t location() const { return location_; }
   const std::string& message() const { return message_; }
 

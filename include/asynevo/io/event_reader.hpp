@@ -2,7 +2,8 @@
 // Streaming access to event files. A reader hands out time-ordered packets of bounded size, so a
 // multi-gigabyte recording is processed in constant memory. Every event is checked (finite time,
 // pixel inside the sensor, valid polarity, time not going backwards beyond a tolerance); a violation
-// throws InputError naming the file and the line (text) or record (binary).
+// throws InputError naming the file and the line (text), record (fixed-size binary records) or byte
+// offset (Prophesee RAW and DAT).
 
 #include <cstdint>
 #include <memory>
@@ -13,7 +14,9 @@
 namespace asynevo {
 
 struct ReaderOptions {
-  std::string format = "auto";        ///< "auto", "ecd", "mvsec", "aevt"
+  /// "auto", "ecd", "mvsec", "aevt", "evt3" (Prophesee RAW EVT 3.0), "evt2" (Prophesee RAW EVT 2.0),
+  /// "dat" (Prophesee DAT)
+  std::string format = "auto";
   int width = 0;                      ///< sensor columns; 0 = the format's own or default (ECD: 240)
   int height = 0;                     ///< sensor rows; 0 = the format's own or default (ECD: 180)
   int packet_size = 65536;            ///< events per packet
@@ -23,7 +26,7 @@ struct ReaderOptions {
 /// What a reader knows about its stream without reading it all.
 struct StreamInfo {
   std::string path;     ///< the event file
-  std::string format;   ///< "ecd", "mvsec", "aevt"
+  std::string format;   ///< "ecd", "mvsec", "aevt", "evt3", "evt2", "dat"
   int width = 0;
   int height = 0;
 };
@@ -33,6 +36,9 @@ struct ReaderStats {
   uint64_t events = 0;           ///< events delivered so far
   uint64_t clamped_times = 0;    ///< events whose time went back within the tolerance (clamped)
   uint64_t skipped_lines = 0;    ///< blank or comment ('#') lines in text formats
+  uint64_t trigger_events = 0;   ///< external-trigger events in the stream (counted, not delivered)
+  uint64_t ignored_words = 0;    ///< encoded words skipped: vendor extensions (Prophesee OTHERS/CONTINUED) and
+                                 ///< events before the stream's first time base or row
 };
 
 class EventReader {
