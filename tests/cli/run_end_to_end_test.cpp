@@ -5,6 +5,7 @@
 #include <fstream>
 #include <regex>
 #include <sstream>
+#include <vector>
 
 #include "../pipeline/sim_sequence.hpp"
 #include "cli_test_util.hpp"
@@ -93,6 +94,56 @@ TEST(RunEndToEnd, TwoOfflineRunsWriteIdenticalFiles) {
     EXPECT_GT(fa.size(), 100u) << f;
     EXPECT_TRUE(fa == fb) << f << " differs between two runs";
   }
+}
+
+// A gap in the events ends the segment; the estimator starts again after it, and eval aligns each
+// segment on its own (docs/method/tracking_loss.md).
+TEST(RunEndToEnd, AGapInTheEventsGivesTwoSegmentsThatEvalScoresApart) {
+  std::string error;
+  const std::string data = testing::simulatedSequence(kScene, kMotion, kDuration, error);
+  ASSERT_FALSE(data.empty()) << error;
+  const TempDir dir;
+  const std::string gapped = dir.file("gapped");
+  std::filesystem::create_directories(gapped);
+  for (const char* f : {"calib.txt", "groundtruth.txt"})
+    std::filesystem::copy_file(data + "/" + f, gapped + "/" + f);
+  {
+    std::ifstream in(data + "/events.txt");
+    std::ofstream out(gapped + "/events.txt");
+    std::string line;
+    while (std::getline(in, line)) {
+      const double t = std::stod(line.substr(0, line.find(' ')));
+      if (t < 1.4 || t >= 1.8) out << line << '\n';  // 400 ms without events
+    }
+  }
+  const std::string out = dir.file("run");
+  const auto run = runAsynevo("run --dataset " + gapped + " --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("segments        2:"), std::string::npos) << run.output;
+  const std::string segments = readFile(out + "/segments.txt");
+  std::istringstream lines(segments);
+  std::string line;
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(lines, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    std::vector<std::string> row;
+    for (std::string f; fields >> f;) row.push_back(f);
+    rows.push_back(row);
+  }
+  ASSERT_EQ(rows.size(), 2u) << segments;
+  EXPECT_EQ(rows[0][4], "event_gap");
+  EXPECT_LT(std::stod(rows[0][2]), 1.4);
+  EXPECT_GE(std::stod(rows[1][1]), 1.8);
+  EXPECT_EQ(rows[1][4], "end_of_stream");
+  const auto ev = runAsynevo("eval --gt " + out + "/stamped_groundtruth.txt --est " + out +
+                             "/stamped_traj_estimate.txt --out " + out);
+  ASSERT_EQ(ev.exit_code, 0) << ev.output;
+  EXPECT_NE(ev.output.find("per segment; 2 segments cover"), std::string::npos) << ev.output;
+  const std::string json = readFile(out + "/eval.json");
+  const double coverage = jsonNumber(json, "coverage", "coverage");
+  EXPECT_GT(coverage, 0.4) << json;
+  EXPECT_LT(coverage, 0.9) << json;
 }
 
 }  // namespace
