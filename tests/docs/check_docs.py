@@ -6,7 +6,8 @@ Usage (from the repository root, with Debian's /usr/bin/python3; no third-party 
                                             (file and #anchor); pages under docs/guide, docs/reference and
                                             docs/method stay under MAX_LINES and name no work periods
   check_docs.py reference --asynevo BIN     docs/reference/cli.md lists exactly the flags of every
-                                            command's --help; docs/reference/config.md lists exactly the
+                                            command's --help, with the defaults --help shows;
+                                            docs/reference/config.md lists exactly the
                                             configuration keys the loader knows (the visit() lists of
                                             include/asynevo/core/config/*.hpp), with their defaults;
                                             every message in docs/guide/troubleshooting.md still exists
@@ -121,13 +122,14 @@ def check_links():
 
 # ----------------------------------------------------------------------------------------- CLI
 def help_flags(asynevo, command):
+    """{flag: default shown by --help, or None} of one command."""
     out = subprocess.run([asynevo, command, "--help"], capture_output=True, text=True, check=True).stdout
-    flags = set()
+    flags = {}
     for line in out.splitlines():
-        m = re.match(r"^\s+((?:-\w,)?--[\w-]+)", line)
+        m = re.match(r"^\s+((?:-\w,)?--[\w-]+)(?:\s+\S*?=(\S+))?", line)
         if m:
-            flags.add(m.group(1).split(",")[-1])
-    flags.discard("--help")
+            flags[m.group(1).split(",")[-1]] = m.group(2)
+    flags.pop("--help", None)
     return flags
 
 
@@ -145,16 +147,17 @@ def commands(asynevo):
 
 
 def documented_flags(cli_text):
-    """{command: set of flags} from the tables under each '## command' heading of cli.md."""
+    """{command: {flag: default cell}} from the tables under each '## command' heading of cli.md."""
     sections = re.split(r"^## ", cli_text, flags=re.M)
     result = {}
     for section in sections[1:]:
         name = section.splitlines()[0].strip()
-        flags = set()
+        flags = {}
         for line in section.splitlines():
             if line.startswith("| `--") or line.startswith("| `-"):
-                first_cell = line.split("|")[1]
-                flags.update(re.findall(r"`(--[\w-]+)`", first_cell))
+                cells = line.split("|")
+                for flag in re.findall(r"`(--[\w-]+)`", cells[1]):
+                    flags[flag] = cells[2].strip() if len(cells) > 2 else ""
         result[name] = flags
     return result
 
@@ -170,10 +173,15 @@ def check_cli(asynevo):
             fail("docs/reference/cli.md: no section '## %s' for the command 'asynevo %s'" % (name, name))
             continue
         actual = help_flags(asynevo, name)
-        for flag in sorted(actual - documented[name]):
+        for flag in sorted(set(actual) - set(documented[name])):
             fail("docs/reference/cli.md: 'asynevo %s %s' is not documented" % (name, flag))
-        for flag in sorted(documented[name] - actual):
+        for flag in sorted(set(documented[name]) - set(actual)):
             fail("docs/reference/cli.md: documents 'asynevo %s %s', which --help does not list" % (name, flag))
+        for flag in sorted(set(actual) & set(documented[name])):
+            shown = actual[flag]
+            if shown is not None and normalize_default(shown) != normalize_default(documented[name][flag]):
+                fail("docs/reference/cli.md: 'asynevo %s %s' default is '%s' in the docs, '%s' in --help"
+                     % (name, flag, documented[name][flag], shown))
     for name in documented:
         if name not in names and re.match(r"^[a-z]+$", name):
             fail("docs/reference/cli.md: section '## %s' documents no command of this binary" % name)
