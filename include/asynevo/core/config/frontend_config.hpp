@@ -34,7 +34,7 @@ struct FrontendConfig {
   /// Adaptive detection: while fewer than 3/4 of max_features are active, the FA-Harris threshold falls
   /// by 5 % per 10 ms of event time, down to this fraction of harris_threshold; from 9/10 active it
   /// rises back at the same rate. 1 = a fixed threshold.
-  double harris_threshold_floor = 1.0;
+  double harris_threshold_floor = 0.25;
   double harris_k = 0.04;              ///< (ref) Harris k
   int harris_latest = 25;              ///< (ref) newest SAE pixels in the 9x9 window forming the patch
 
