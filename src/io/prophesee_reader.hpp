@@ -8,7 +8,7 @@
 //   "EVT 3.0 Format"   https://docs.prophesee.ai/stable/data/encoding_formats/evt3.html
 //   "EVT 2.0 Format"   https://docs.prophesee.ai/stable/data/encoding_formats/evt2.html
 //   "DAT File Format"  https://docs.prophesee.ai/stable/data/file_formats/dat.html
-// What is read, what is skipped and how the sensor size is found: docs/formats_prophesee.md.
+// What is read, what is skipped and how the sensor size is found: docs/reference/formats_prophesee.md.
 
 #include <cstdint>
 #include <cstdio>
