@@ -90,10 +90,7 @@ void SlidingWindowEstimator::advanceTo(int64_t t_ns) {
     if (tracking_) {
       loseTracking(SegmentEnd::kEventGap, t_ns, last_event_ns_, last_event_ns_ + 1);
     } else {  // measurements from before the gap would pair with ones after it in a two-view start
-      tracks_.clear();
-      first_measurement_ns_ = -1;
-      last_init_attempt_ns_.reset();
-      reset_ns_ = last_event_ns_ + 1;
+      restartInitialization(last_event_ns_ + 1);
     }
   }
   last_event_ns_ = std::max(last_event_ns_, t_ns);
@@ -296,14 +293,18 @@ void SlidingWindowEstimator::loseTracking(SegmentEnd reason, int64_t t_ns, int64
   segment.end = reason;
   segment.ended_at_ns = t_ns;
   trajectory_ = Trajectory();
-  tracks_.clear();
   prior_.reset();
   anchors_.clear();
   tracking_ = false;
+  segment_depth_ = 0;
+  restartInitialization(reset_ns);
+}
+
+void SlidingWindowEstimator::restartInitialization(int64_t reset_ns) {
+  tracks_.clear();
   first_measurement_ns_ = -1;
   last_init_attempt_ns_.reset();
   reset_ns_ = reset_ns;
-  segment_depth_ = 0;
 }
 
 bool SlidingWindowEstimator::DepthGate::admits(const double* p_w) const {

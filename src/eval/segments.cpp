@@ -207,12 +207,7 @@ EvalResult evaluateSegmented(const StampedTrajectory& gt, const StampedTrajector
       pair_offset += e.matched;
     }
     pooled.too_few = with_samples == 0;
-    pooled.trans = computeStats(pooled.trans_m);
-    pooled.trans_perc_stats = computeStats(pooled.trans_perc);
-    pooled.rot = computeStats(pooled.rot_deg);
-    pooled.yaw = computeStats(pooled.yaw_deg);
-    pooled.gravity = computeStats(pooled.gravity_deg);
-    pooled.rot_per_m = computeStats(pooled.rot_deg_per_m);
+    computeRelativeStats(pooled);
     appendAll(all_trans, pooled.trans_m);
     appendAll(all_perc, pooled.trans_perc);
     appendAll(all_rot, pooled.rot_deg);

@@ -169,13 +169,17 @@ RelativeErrors computeRelativeErrors(const PosePairs& pairs, const std::vector<d
     out.gravity_deg.push_back(std::sqrt(ypr.y() * ypr.y() + ypr.z() * ypr.z()) * kRadToDeg);
     out.rot_deg_per_m.push_back(rot / length);
   }
-  out.trans = computeStats(out.trans_m);
-  out.trans_perc_stats = computeStats(out.trans_perc);
-  out.rot = computeStats(out.rot_deg);
-  out.yaw = computeStats(out.yaw_deg);
-  out.gravity = computeStats(out.gravity_deg);
-  out.rot_per_m = computeStats(out.rot_deg_per_m);
+  computeRelativeStats(out);
   return out;
+}
+
+void computeRelativeStats(RelativeErrors& e) {
+  e.trans = computeStats(e.trans_m);
+  e.trans_perc_stats = computeStats(e.trans_perc);
+  e.rot = computeStats(e.rot_deg);
+  e.yaw = computeStats(e.yaw_deg);
+  e.gravity = computeStats(e.gravity_deg);
+  e.rot_per_m = computeStats(e.rot_deg_per_m);
 }
 
 }  // namespace asynevo::eval

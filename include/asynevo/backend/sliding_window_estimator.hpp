@@ -101,6 +101,9 @@ class SlidingWindowEstimator : public Estimator {
   /// keep_until_ns are written, the rest dropped; the map is cleared and initialization starts again
   /// with measurements from reset_ns on.
   void loseTracking(SegmentEnd reason, int64_t t_ns, int64_t keep_until_ns, int64_t reset_ns);
+  /// Forgets the buffered trajectories and starts initialization afresh with measurements from
+  /// reset_ns on (after a tracking loss, or a gap in the events before the first start).
+  void restartInitialization(int64_t reset_ns);
   void marginalizeDynamic();
   void renewScaleAnchor();
   /// Marginalizes a landmark that leaves the estimation (rejected, lost) out of the prior, if in it.

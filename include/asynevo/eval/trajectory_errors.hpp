@@ -66,6 +66,9 @@ struct RelativeErrorOptions {
 /// relative translation multiplied by `scale` (the Sim(3) alignment scale; 1 otherwise), using
 /// travelled distances `distances` of the associated ground truth. Error transform
 /// E = (T_gt,i⁻¹ T_gt,j)⁻¹ (T_est,i⁻¹ T_est,j) rotated into the world frame by R_est,j.
+/// Fills the statistics of `e` (trans, trans_perc_stats, rot, yaw, gravity, rot_per_m) from its samples.
+void computeRelativeStats(RelativeErrors& e);
+
 RelativeErrors computeRelativeErrors(const PosePairs& pairs, const std::vector<double>& distances,
                                      double length, double scale, const RelativeErrorOptions& options = {});
 
