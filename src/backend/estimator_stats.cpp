@@ -6,8 +6,8 @@
 namespace asynevo::backend {
 
 std::string describeInitViews(const EstimatorStats::InitViews& views) {
-  return fmt::format("{:.0f} ms apart: {} features, {} inliers, parallax {:.1f} px, {} landmarks",
-                     views.span_ms, views.features, views.inliers, views.parallax_px, views.landmarks);
+  return fmt::format("{}, {:.0f} ms: {} features, {} inliers, parallax {:.1f} px, {} landmarks",
+                     views.method, views.span_ms, views.features, views.inliers, views.parallax_px, views.landmarks);
 }
 
 }  // namespace asynevo::backend

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "asynevo/core/time.hpp"
+#include "view_geometry.hpp"
 
 namespace asynevo::backend {
 
@@ -39,36 +40,15 @@ Correspondences correspondences(const TrackMap& tracks, int64_t t_a, int64_t t_b
   return c;
 }
 
-lie::Vec3 ray(const cv::Point2d& p) { return lie::Vec3(p.x, p.y, 1.0).normalized(); }
-
-double angleBetween(const lie::Vec3& u, const lie::Vec3& v) { return std::atan2(u.cross(v).norm(), u.dot(v)); }
+lie::Vec3 ray(const cv::Point2d& p) { return view_geometry::ray(p.x, p.y); }
 
 /// Angle between the ray at t_b and the ray at t_a rotated into camera b: the parallax that the
 /// translation alone causes (zero for a point at infinity).
 double parallaxAngle(const lie::Mat3& R_b_a, const cv::Point2d& a, const cv::Point2d& b) {
-  return angleBetween(R_b_a * ray(a), ray(b));
+  return view_geometry::angleBetween(R_b_a * ray(a), ray(b));
 }
 
-enum class Chirality { Front, Behind, Undetermined };
-
-/// Where the point seen along `a` and `b` lies for the motion x_b = R x_a + t: the depths along both rays
-/// of the midpoint triangulation (closest points of the two rays, least squares in camera b). A point
-/// whose parallax is below `min_angle` is Undetermined (its depth sign is noise) unless its rays point
-/// away from each other once rotated, which no depth can explain.
-Chirality chirality(const lie::Mat3& R, const lie::Vec3& t, const cv::Point2d& a, const cv::Point2d& b,
-                    double min_angle) {
-  const lie::Vec3 u = R * ray(a);
-  const lie::Vec3 v = ray(b);
-  const double uv = u.dot(v);
-  if (uv <= 0) return Chirality::Behind;
-  if (angleBetween(u, v) < min_angle) return Chirality::Undetermined;
-  // Minimize |lambda_a u + t - lambda_b v|^2 over the two depths (normal equations, |u| = |v| = 1).
-  const double det = 1.0 - uv * uv;
-  const double ut = u.dot(t), vt = v.dot(t);
-  const double lambda_a = (-ut + uv * vt) / det;
-  const double lambda_b = (vt - uv * ut) / det;
-  return lambda_a > 0 && lambda_b > 0 ? Chirality::Front : Chirality::Behind;
-}
+using view_geometry::Chirality;
 
 struct PoseFromE {
   lie::Mat3 R_b_a;
@@ -99,7 +79,7 @@ PoseFromE poseFromEssential(const cv::Mat& E, const Correspondences& c, const cv
       int front = 0, count = 0;
       for (std::size_t i = 0; i < c.a.size(); ++i) {
         if (ransac_mask.at<uchar>(static_cast<int>(i)) == 0) continue;
-        const Chirality side = chirality(R, t_b_a, c.a[i], c.b[i], min_angle);
+        const Chirality side = view_geometry::chirality(R, t_b_a, ray(c.a[i]), ray(c.b[i]), min_angle);
         if (side == Chirality::Behind) continue;
         front += side == Chirality::Front;
         mask.at<uchar>(static_cast<int>(i)) = 1;
@@ -127,13 +107,26 @@ double medianParallaxPx(const Correspondences& c, const lie::Mat3& R_b_a, const 
 
 /// How well a span pins the baseline direction: its error shrinks with the parallax and with the square
 /// root of the number of points.
-double score(const TwoViewResult& r) { return r.parallax_px * std::sqrt(static_cast<double>(r.inliers)); }
+double score(const InitResult& r) { return r.parallax_px * std::sqrt(static_cast<double>(r.inliers)); }
 
 }  // namespace
 
-TwoViewResult initializeTwoViewSpan(const TrackMap& tracks, int64_t t_a, int64_t t_b, double focal,
+const char* rejectionName(InitRejection rejection) {
+  switch (rejection) {
+    case InitRejection::None: return "none";
+    case InitRejection::Features: return "features";
+    case InitRejection::Motion: return "motion";
+    case InitRejection::Model: return "model";
+    case InitRejection::Inliers: return "inliers";
+    case InitRejection::Parallax: return "parallax";
+    case InitRejection::Landmarks: return "landmarks";
+  }
+  return "?";
+}
+
+InitResult initializeTwoViewSpan(const TrackMap& tracks, int64_t t_a, int64_t t_b, double focal,
                                     const BackendConfig& config) {
-  TwoViewResult r;
+  InitResult r;
   r.t_a_ns = t_a;
   r.t_b_ns = t_b;
   const Correspondences c = correspondences(tracks, t_a, t_b, focal);
@@ -141,10 +134,12 @@ TwoViewResult initializeTwoViewSpan(const TrackMap& tracks, int64_t t_a, int64_t
   r.features = n;
   const std::string span = fmt::format("{:.0f} ms", durationSeconds(t_a, t_b) * 1e3);
   if (n < config.init_min_features) {
+    r.rejection = InitRejection::Features;
     r.failure = fmt::format("{}: {} features seen at both times (need {})", span, n, config.init_min_features);
     return r;
   }
   if (c.median_px < config.init_min_parallax_px) {
+    r.rejection = InitRejection::Motion;
     r.failure = fmt::format("{}: median motion {:.1f} px (need {:.1f})", span, c.median_px, config.init_min_parallax_px);
     return r;
   }
@@ -155,12 +150,14 @@ TwoViewResult initializeTwoViewSpan(const TrackMap& tracks, int64_t t_a, int64_t
   const cv::Mat E = cv::findEssentialMat(c.a, c.b, 1.0, cv::Point2d(0, 0), cv::RANSAC, 0.999,
                                          config.init_ransac_px / focal, ransac_mask);
   if (E.rows != 3 || E.cols != 3) {
+    r.rejection = InitRejection::Model;
     r.failure = fmt::format("{}: no essential matrix from {} features", span, n);
     return r;
   }
   // Depth signs are trusted from twice the RANSAC threshold of parallax on.
   const PoseFromE pose = poseFromEssential(E, c, ransac_mask, 2.0 * config.init_ransac_px / focal);
   if (pose.count < config.init_min_inliers) {
+    r.rejection = InitRejection::Inliers;
     r.failure = fmt::format("{}: {} inliers not behind a camera (need {})", span, pose.count, config.init_min_inliers);
     return r;
   }
@@ -168,6 +165,7 @@ TwoViewResult initializeTwoViewSpan(const TrackMap& tracks, int64_t t_a, int64_t
   // baseline direction undetermined. Measure the motion that is left once the rotation is undone.
   const double parallax = medianParallaxPx(c, pose.R_b_a, pose.inliers, focal);
   if (parallax < config.init_min_parallax_px) {
+    r.rejection = InitRejection::Parallax;
     r.failure = fmt::format("{}: median parallax {:.1f} px once the rotation ({:.1f} deg) is removed (need {:.1f})",
                             span, parallax, lie::so3::log(pose.R_b_a).norm() * 180.0 / M_PI,
                             config.init_min_parallax_px);
@@ -181,10 +179,10 @@ TwoViewResult initializeTwoViewSpan(const TrackMap& tracks, int64_t t_a, int64_t
   return r;
 }
 
-TwoViewResult initializeTwoView(const TrackMap& tracks, int64_t earliest_ns, int64_t t_b_ns, double focal,
+InitResult initializeTwoView(const TrackMap& tracks, int64_t earliest_ns, int64_t t_b_ns, double focal,
                                 const BackendConfig& config) {
   const int64_t window_ns = std::llround(config.init_window_ms * 1e6);
-  TwoViewResult best;
+  InitResult best;
   best.t_b_ns = t_b_ns;
   std::string failures;
   int64_t previous_t_a = t_b_ns;
@@ -192,14 +190,18 @@ TwoViewResult initializeTwoView(const TrackMap& tracks, int64_t earliest_ns, int
     const int64_t t_a = std::max(earliest_ns, t_b_ns - window_ns * part / kInitSpans);
     if (t_b_ns - t_a < window_ns / kInitSpans || t_a == previous_t_a) continue;
     previous_t_a = t_a;
-    TwoViewResult r = initializeTwoViewSpan(tracks, t_a, t_b_ns, focal, config);
+    InitResult r = initializeTwoViewSpan(tracks, t_a, t_b_ns, focal, config);
     if (!r.ok) {
       failures += r.failure + "; ";
+      best.rejection = std::max(best.rejection, r.rejection);
     } else if (!best.ok || score(r) > score(best)) {
       best = std::move(r);
     }
   }
-  if (!best.ok) best.failure = failures.empty() ? "not enough feature time span yet" : failures;
+  if (!best.ok) {
+    best.failure = failures.empty() ? "not enough feature time span yet" : failures;
+    if (failures.empty()) best.rejection = InitRejection::Features;
+  }
   return best;
 }
 

@@ -18,6 +18,7 @@
 #include "asynevo/backend/factors/state_prior_factor.hpp"
 #include "asynevo/backend/factors/wnoa_prior_factor.hpp"
 #include "asynevo/backend/initializer.hpp"
+#include "asynevo/backend/multiview_initializer.hpp"
 #include "asynevo/backend/marginalization.hpp"
 #include "asynevo/backend/triangulation.hpp"
 #include "asynevo/core/time.hpp"
@@ -106,9 +107,32 @@ void SlidingWindowEstimator::advanceTo(int64_t t_ns) {
   }
 }
 
+InitResult SlidingWindowEstimator::findInitialMotion(int64_t earliest_ns, int64_t t_b_ns, const BackendConfig& config,
+                                                     bool relaxed_counts) const {
+  const std::string& method = config.init_method;
+  InitResult two_view;
+  if (method != "multi-view") {
+    two_view = initializeTwoView(tracks_, earliest_ns, t_b_ns, options_.focal_px, config);
+    // "both": the multi-view start only once the counts are relaxed, i.e. the two-view start has
+    // failed for init_relax_after_ms. Earlier it would pre-empt two-view starts that come within a
+    // fraction of a second, and weak early starts cost accuracy for the rest of the run.
+    if (two_view.ok || method == "two-view" || !relaxed_counts) return two_view;
+  }
+  InitResult multi_view = initializeMultiView(tracks_, earliest_ns, t_b_ns, options_.focal_px, config);
+  if (multi_view.ok || method == "multi-view") return multi_view;
+  // Both failed: report the one that got further, and both reasons.
+  InitResult& further = multi_view.rejection > two_view.rejection ? multi_view : two_view;
+  further.failure = two_view.failure + multi_view.failure;
+  return further;
+}
+
+bool SlidingWindowEstimator::relaxed(int64_t t_ns) const {
+  return durationSeconds(first_measurement_ns_, t_ns) * 1e3 >= options_.config.init_relax_after_ms;
+}
+
 BackendConfig SlidingWindowEstimator::initConfig(int64_t t_ns) const {
   BackendConfig config = options_.config;
-  if (durationSeconds(first_measurement_ns_, t_ns) * 1e3 >= config.init_relax_after_ms) {
+  if (relaxed(t_ns)) {
     config.init_min_features = static_cast<int>(std::ceil(config.init_min_features * config.init_relaxed_fraction));
     config.init_min_inliers = static_cast<int>(std::ceil(config.init_min_inliers * config.init_relaxed_fraction));
   }
@@ -129,10 +153,11 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   // The second view lags event time by one knot interval: the newest measurements of most features are
   // a little older than the newest event (tracker windows, min_dt), and both views need every feature.
   const BackendConfig config = initConfig(t_ns);
-  const TwoViewResult two_view = initializeTwoView(tracks_, std::max(first_measurement_ns_, horizon),
-                                                   t_ns - knot_dt_ns_, options_.focal_px, config);
+  const InitResult two_view =
+      findInitialMotion(std::max(first_measurement_ns_, horizon), t_ns - knot_dt_ns_, config, relaxed(t_ns));
   if (!two_view.ok) {
     stats_.init_last_failure = two_view.failure;
+    ++stats_.init_rejections[static_cast<int>(two_view.rejection)];
     return;
   }
   // Knots on a grid from t_a, at constant velocity through the two views. The monocular scale is fixed
@@ -147,6 +172,7 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   }
   if (trajectory.size() < 3) {
     stats_.init_last_failure = "initialization window shorter than three knots";
+    ++stats_.init_rejections[static_cast<int>(InitRejection::Features)];
     return;
   }
   trajectory_ = std::move(trajectory);
@@ -176,8 +202,9 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   int landmarks = 0;
   for (const auto& [id, track] : tracks_) landmarks += track.triangulated;
   if (landmarks < config.init_min_inliers / 2) {
-    stats_.init_last_failure = fmt::format("two-view pose found ({} inliers) but only {} landmarks triangulated",
-                                           two_view.inliers, landmarks);
+    stats_.init_last_failure = fmt::format("{} pose found ({} inliers) but only {} landmarks triangulated",
+                                           two_view.method, two_view.inliers, landmarks);
+    ++stats_.init_rejections[static_cast<int>(InitRejection::Landmarks)];
     trajectory_ = Trajectory();
     anchors_.clear();
     for (auto& [id, track] : tracks_) track.triangulated = false;
@@ -186,7 +213,7 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   if (!stats_.initialized) {
     stats_.initialized = true;
     stats_.initialized_at_ns = t_ns;
-    stats_.init_views = {durationSeconds(two_view.t_a_ns, two_view.t_b_ns) * 1e3, two_view.features,
+    stats_.init_views = {two_view.method, durationSeconds(two_view.t_a_ns, two_view.t_b_ns) * 1e3, two_view.features,
                          two_view.inliers, two_view.parallax_px, landmarks};
   }
   tracking_ = true;

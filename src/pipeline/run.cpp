@@ -197,7 +197,7 @@ std::string runSummaryText(const RunSummary& s) {
       s.backend_name, s.knots_written, s.landmarks_written, e.marginalizations, e.knots_marginalized,
       e.max_window_knots);
   if (e.initialized)
-    t += fmt::format("initialized     at t = {:.3f} s after {} attempt(s), from two views {}\n",
+    t += fmt::format("initialized     at t = {:.3f} s after {} attempt(s), {}\n",
                      nsToSeconds(e.initialized_at_ns), e.init_attempts,
                      backend::describeInitViews(e.init_views));
   if (e.segments.size() > 1) {
@@ -273,6 +273,7 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("initialized_at_s", e.initialized ? nsToSeconds(e.initialized_at_ns) : 0.0)
       .add("init_attempts", e.init_attempts)
       .add("init_last_failure", e.init_last_failure)
+      .add("init_method", e.init_views.method)
       .add("init_span_ms", e.init_views.span_ms)
       .add("init_features", e.init_views.features)
       .add("init_inliers", e.init_views.inliers)
@@ -284,6 +285,11 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("knots", e.knots)
       .add("updates", e.updates)
       .add("landmarks_created", e.landmarks_created);
+  JsonObject rejections;  // failed attempts by the furthest check they reached ("none" is never counted)
+  for (int i = 1; i < backend::kInitRejections; ++i)
+    rejections.add(backend::rejectionName(static_cast<backend::InitRejection>(i)),
+                   e.init_rejections[static_cast<std::size_t>(i)]);
+  estimator.addObject("init_rejections", rejections);
   JsonObject tri;
   for (int i = 0; i < backend::kTriangulationFailureCount; ++i)
     tri.add(backend::triangulationFailureName(static_cast<backend::TriangulationFailure>(i)),

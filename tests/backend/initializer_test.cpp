@@ -46,7 +46,7 @@ TEST(InitializeTwoView, RejectsARotationThatMovesTheImageALotWithLittleBaseline)
   // 8 degrees about the vertical axis (~28 px of image motion) and a 3 cm baseline (~1-2 px of parallax).
   const lie::SE3 T_w_b(lie::so3::exp(Eigen::Vector3d(0.0, 8.0 * M_PI / 180.0, 0.0)), Eigen::Vector3d(0.03, 0.0, 0.01));
   // Noise-free, so the five-point pose itself is good and only the parallax test can say no.
-  const TwoViewResult result = initializeTwoView(twoViewTracks(T_w_b, 80, 0.0), kTa, kTb, kFocal, initConfig());
+  const InitResult result = initializeTwoView(twoViewTracks(T_w_b, 80, 0.0), kTa, kTb, kFocal, initConfig());
   EXPECT_FALSE(result.ok);
   EXPECT_NE(result.failure.find("once the rotation"), std::string::npos) << result.failure;
 }
@@ -57,7 +57,7 @@ TEST(InitializeTwoView, AcceptsATranslationAndRecoversItsDirection) {
   const lie::SE3 T_w_b(lie::so3::exp(Eigen::Vector3d(0.01, -0.03, 0.02)), baseline);
   // 0.1 px of noise: sideways translation and rotation about the vertical axis are nearly ambiguous in
   // two narrow views, so more noise would tilt the pose (the bundle adjustment after it refines).
-  const TwoViewResult result = initializeTwoView(twoViewTracks(T_w_b, 80, 0.1), kTa, kTb, kFocal, initConfig());
+  const InitResult result = initializeTwoView(twoViewTracks(T_w_b, 80, 0.1), kTa, kTb, kFocal, initConfig());
   ASSERT_TRUE(result.ok) << result.failure;
   EXPECT_EQ(result.t_a_ns, kTa);
   EXPECT_GT(result.parallax_px, 10.0);
@@ -70,7 +70,7 @@ TEST(InitializeTwoView, RequiresTheConfiguredParallax) {
   const lie::SE3 T_w_b(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.6, 0.05, 0.2));
   BackendConfig config = initConfig();
   config.init_min_parallax_px = 60;  // more than this baseline gives, raw or with the rotation removed
-  const TwoViewResult result = initializeTwoView(twoViewTracks(T_w_b, 80, 0.1), kTa, kTb, kFocal, config);
+  const InitResult result = initializeTwoView(twoViewTracks(T_w_b, 80, 0.1), kTa, kTb, kFocal, config);
   EXPECT_FALSE(result.ok);
   EXPECT_NE(result.failure.find("(need 60.0)"), std::string::npos) << result.failure;
 }
@@ -102,7 +102,7 @@ std::vector<Eigen::Vector3d> randomPoints(int n, double depth_scale, unsigned se
   return points;
 }
 
-double score(const TwoViewResult& r) { return r.parallax_px * std::sqrt(static_cast<double>(r.inliers)); }
+double score(const InitResult& r) { return r.parallax_px * std::sqrt(static_cast<double>(r.inliers)); }
 
 TEST(InitializeTwoView, CountsFarPointsAsInliersAndKeepsTheirRotation) {
   // 20 points at 3-6 m make the parallax; 40 points 300-600 m away (more than 50 baselines, which
@@ -112,7 +112,7 @@ TEST(InitializeTwoView, CountsFarPointsAsInliersAndKeepsTheirRotation) {
   addTracks(tracks, randomPoints(40, 100.0, 8), kTa, kTb);
   BackendConfig config = initConfig();
   config.init_min_parallax_px = 0.05;  // the median point is far: its parallax is tiny
-  const TwoViewResult result = initializeTwoView(tracks, kTa, kTb, kFocal, config);
+  const InitResult result = initializeTwoView(tracks, kTa, kTb, kFocal, config);
   ASSERT_TRUE(result.ok) << result.failure;
   EXPECT_EQ(result.inliers, 60);
   const lie::SE3 T_a_b = movingCamera(result.t_a_ns).inverse() * movingCamera(result.t_b_ns);
@@ -131,12 +131,12 @@ TEST(InitializeTwoView, ChoosesTheSpanWithTheBestScore) {
   TrackMap tracks;
   addTracks(tracks, randomPoints(30, 1.0, 3), kTa, t_b);
   addTracks(tracks, randomPoints(30, 1.0, 4), kTa + 50'000'000, t_b);
-  const TwoViewResult best = initializeTwoView(tracks, kTa, t_b, kFocal, config);
+  const InitResult best = initializeTwoView(tracks, kTa, t_b, kFocal, config);
   ASSERT_TRUE(best.ok) << best.failure;
   int passing = 0;
   for (int part = kInitSpans; part >= 1; --part) {
     const int64_t t_a = t_b - 300'000'000LL * part / kInitSpans;
-    const TwoViewResult r = initializeTwoViewSpan(tracks, t_a, t_b, kFocal, config);
+    const InitResult r = initializeTwoViewSpan(tracks, t_a, t_b, kFocal, config);
     if (!r.ok) continue;
     ++passing;
     EXPECT_GE(score(best), score(r)) << "span from " << t_a;

@@ -241,5 +241,40 @@ TEST(SlidingWindowEstimator, RejectsAnUnknownForcedMarginalizationMode) {
   EXPECT_THROW(SlidingWindowEstimator{options}, std::exception);
 }
 
+TEST(SlidingWindowEstimator, MultiViewStartUsesShortTracksThatTheTwoViewStartWaitsFor) {
+  // Features that live 150 ms: too few are seen at both ends of a span with enough parallax, so the
+  // two-view start never comes in 2.5 s; with "both", one twist fitted to all of them starts as soon as
+  // the two-view start has failed for init_relax_after_ms (0.5 s), and not before.
+  const SyntheticScene scene(150);
+  const double duration = 2.5;
+  const auto measurements = scene.measurements(duration, 0.01, 0.15, 0.3);
+  EstimatorOptions options = defaultOptions();
+  options.config.init_method = "two-view";
+  const RunResult two_view = runEstimator(measurements, duration, options);
+  EXPECT_FALSE(two_view.stats.initialized);
+  // Every waiting attempt is counted by the check that stopped it.
+  uint64_t counted = 0;
+  for (const uint64_t n : two_view.stats.init_rejections) counted += n;
+  EXPECT_EQ(counted, two_view.stats.init_attempts);
+  EXPECT_GT(two_view.stats.init_rejections[static_cast<int>(InitRejection::Features)], 0u);
+
+  options.config.init_method = "both";
+  const RunResult both = runEstimator(measurements, duration, options);
+  ASSERT_TRUE(both.stats.initialized) << both.stats.init_last_failure;
+  EXPECT_EQ(both.stats.init_views.method, "multi-view");
+  EXPECT_GE(both.stats.initialized_at_ns, measurements.front().t_ns + 500'000'000);
+  EXPECT_LE(both.stats.initialized_at_ns, measurements.front().t_ns + 600'000'000);
+  EXPECT_GE(both.stats.init_views.inliers, options.config.init_min_inliers);
+  // Short tracks make a weak map: 4.4 % of the path (the 400 ms tracks of the first test give < 1.5 %).
+  const Accuracy a = accuracy(both.knots);
+  EXPECT_LT(a.ate_rmse, 0.06 * a.path_length) << "ATE " << a.ate_rmse << " over a path of " << a.path_length;
+}
+
+TEST(SlidingWindowEstimator, RejectsAnUnknownInitializationMethod) {
+  EstimatorOptions options = defaultOptions();
+  options.config.init_method = "three-view";
+  EXPECT_THROW(SlidingWindowEstimator{options}, std::exception);
+}
+
 }  // namespace
 }  // namespace asynevo::backend

@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include "asynevo/backend/init_result.hpp"
 #include "asynevo/backend/segment.hpp"
 #include "asynevo/backend/trajectory.hpp"
 #include "asynevo/frontend/track_measurement.hpp"
@@ -46,8 +47,11 @@ struct EstimatorStats {
   int64_t initialized_at_ns = 0;  ///< the first initialization
   uint64_t init_attempts = 0;
   std::string init_last_failure;  ///< why the last initialization attempt failed (with counts)
+  /// Failed attempts by the furthest check they reached (indexed by InitRejection; see rejectionName).
+  std::array<uint64_t, kInitRejections> init_rejections{};
   /// The two views the estimator started from (valid once initialized).
   struct InitViews {
+    std::string method;      ///< "two-view" or "multi-view"
     double span_ms = 0;      ///< t_b − t_a
     int features = 0;        ///< seen at both times
     int inliers = 0;         ///< five-point inliers in front of both cameras

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "asynevo/backend/estimator.hpp"
+#include "asynevo/backend/init_result.hpp"
 #include "asynevo/backend/factor_graph.hpp"
 #include "asynevo/backend/feature_track.hpp"
 #include "asynevo/backend/trajectory.hpp"
@@ -84,6 +85,12 @@ class SlidingWindowEstimator : public Estimator {
   /// The configuration of an initialization attempt at t_ns: the counts relaxed once attempts have
   /// failed for init_relax_after_ms.
   BackendConfig initConfig(int64_t t_ns) const;
+  /// Attempts have failed for init_relax_after_ms of event time since the first measurement.
+  bool relaxed(int64_t t_ns) const;
+  /// The motion over the initialization window by config.init_method: two-view, multi-view, or both
+  /// (the multi-view start once relaxed and the two-view start has failed).
+  InitResult findInitialMotion(int64_t earliest_ns, int64_t t_b_ns, const BackendConfig& config,
+                               bool relaxed_counts) const;
   void triangulateTracks();
   /// landmark_depth_range: depths in the newest knot's camera within a factor of the window
   /// landmarks' median depth. Admits everything when off or with fewer than 10 landmarks.

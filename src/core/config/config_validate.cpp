@@ -102,6 +102,9 @@ void BackendConfig::validate() const {
   requireRange("backend.init_window_ms", init_window_ms, 10.0, 1e5);
   requireRange("backend.init_relax_after_ms", init_relax_after_ms, 0.0, 1e9);
   requireRange("backend.init_relaxed_fraction", init_relaxed_fraction, 0.1, 1.0);
+  if (init_method != "two-view" && init_method != "multi-view" && init_method != "both")
+    throw ConfigError(fmt::format("configuration value backend.init_method = '{}' is not one of two-view, multi-view, both",
+                                  init_method));
   requireRange("backend.loss_max_event_gap_ms", loss_max_event_gap_ms, 0.0, 1e9);
   if (loss_max_event_gap_ms > 0 && loss_max_event_gap_ms < knot_dt_ms)
     throw ConfigError(fmt::format("configuration value backend.loss_max_event_gap_ms = {} must be 0 (off) or at "

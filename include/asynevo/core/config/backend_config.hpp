@@ -64,6 +64,10 @@ struct BackendConfig {
   /// for 30 at both ends still starts, and one that has them keeps the stricter start.
   double init_relax_after_ms = 500.0;
   double init_relaxed_fraction = 0.5;
+  /// Which start is tried: "two-view" (two times, five-point RANSAC), "multi-view" (one constant twist
+  /// fitted to every track of the window) or "both" (two-view first; once the counts are relaxed,
+  /// multi-view when it fails).
+  std::string init_method = "two-view";
 
   // --- tracking loss (docs/method/tracking_loss.md): the segment ends, the estimator starts again ---
   double loss_max_event_gap_ms = 250.0;  ///< a gap in the events longer than this ends the segment (0 = off)
@@ -112,6 +116,7 @@ struct BackendConfig {
       "initialization: event time of failed attempts after which the feature and inlier counts are relaxed [ms]");
     v("init_relaxed_fraction", init_relaxed_fraction,
       "initialization: factor on init_min_features and init_min_inliers once relaxed (1 = never relax)");
+    v("init_method", init_method, "initialization: two-view, multi-view or both (two-view first, multi-view once relaxed)");
     v("loss_max_event_gap_ms", loss_max_event_gap_ms,
       "tracking loss: a gap in the events longer than this ends the segment [ms] (0 = off)");
     v("loss_min_landmarks", loss_min_landmarks, "tracking loss: fewer landmarks in the window is unsupported");
