@@ -621,7 +621,8 @@ def parse_args(argv):
                    "(the workflow passes its snakemake command; default: this script's own command line)")  # fmt: skip
     p.add_argument("--source-label", default=None, help="what the binary was built from, for the report "
                    "(default: git describe of this checkout)")  # fmt: skip
-    p.add_argument("--docs", default=None, help="markdown file whose generated section is replaced (docs/results.md)")
+    p.add_argument("--docs", default=None, help="markdown file whose generated section is replaced "
+                   "(docs/results/baselines.md)")  # fmt: skip
     p.add_argument("--docs-images", default=None, help="folder for the PNGs referenced by --docs "
                    "(default: images/results/ next to --docs)")  # fmt: skip
     args = p.parse_args(argv)

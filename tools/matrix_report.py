@@ -4,7 +4,7 @@ per half and per factor (sensor, noise level, scene kind, motion kind), and one 
 distributions. Failed runs stay in every table: they count as the worst value of every figure.
 
   matrix_report.py --matrix FILE --runs OUT/runs/NAME --name NAME --out REPORT.md [--half H]
-                   [--config FILE] [--docs docs/results.md --docs-images docs/images/matrix]
+                   [--config FILE] [--docs docs/results/matrix.md --docs-images docs/images/matrix]
 
 Writes REPORT.md, results.json and distributions.png beside it. With --docs, the section between
 `<!-- matrix:begin -->` and `<!-- matrix:end -->` of that file is replaced by the report and the figure

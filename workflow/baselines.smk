@@ -1,8 +1,9 @@
 # AsynEVO's sliding window against the full-history baselines: simulate -> run + evaluate -> report
-# (docs/results.md, "Sliding window against full-history baselines"). From the repository root:
+# (docs/results/baselines.md). From the repository root:
 #
 #   snakemake -s workflow/baselines.smk --cores 2                          # default sequences, 3 backends
-#   snakemake -s workflow/baselines.smk --cores 2 --config docs=docs/results.md   # ... and the docs section
+#   snakemake -s workflow/baselines.smk --cores 2 \
+#       --config docs=docs/results/baselines.md docs_images=docs/images/results   # ... and the docs section
 #   snakemake -s workflow/baselines.smk --cores 2 --config sequences=boxes_6dof \
 #       backends=window,incremental-frozen duration=3                       # a quick check
 #   snakemake -s workflow/baselines.smk --cores 2 -n                       # what would run
@@ -18,7 +19,8 @@
 #   run_config     asynevo run --config; empty (run_config=) = the built-in defaults  [config/sim.yaml]
 #   docs           also replace the generated section of this markdown file (between
 #                  <!-- results:begin --> and <!-- results:end -->) and copy the figures to
-#                  images/results/ beside it                                                   [none]
+#                  images/results/ beside it (or to docs_images)                               [none]
+#   docs_images    the folder the docs section's figures are copied to    [images/results/ beside docs]
 #   source_label   what the binary was built from, for the report's header  [git describe --dirty]
 # Unknown keys, sequence names or backend names stop the workflow before anything runs.
 #
@@ -53,7 +55,7 @@ sys.path.insert(0, "tools")
 import baseline_run  # noqa: E402
 
 CONFIG_KEYS = ("out", "asynevo", "sequences", "backends", "duration", "run_timeout_s", "run_config", "docs",
-               "source_label")
+               "docs_images", "source_label")
 PYTHON = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else "python3"
 FIGURES = ["runtime_over_time.png", "runtime_boxplots.png", "window_size.png", "trajectories.png"]
 
@@ -88,6 +90,7 @@ DURATION = number("duration", 0, 0) or None  # None: each sequence's own
 if DURATION is not None and DURATION < 0.5:
     raise WorkflowError("baselines: duration must be at least 0.5 s, got %g" % DURATION)
 DOCS = text("docs", "")
+DOCS_IMAGES = text("docs_images", "")
 SOURCE_LABEL = text("source_label", "")
 try:
     TABLE = baseline_run.load_sequences()
@@ -187,6 +190,7 @@ rule report:
     params:
         args=shlex.join(["--out", OUT, "--sequences", ",".join(SEQ_NAMES), "--backends", ",".join(BACKENDS),
                          "--command", COMMAND] + (["--docs", DOCS] if DOCS else []) +
+                        (["--docs-images", DOCS_IMAGES] if DOCS and DOCS_IMAGES else []) +
                         (["--source-label", SOURCE_LABEL] if SOURCE_LABEL else [])),  # fmt: skip
     threads: 1
     shell:

@@ -3,8 +3,10 @@
 
 Usage (from the repository root, with Debian's /usr/bin/python3; no third-party modules):
   check_docs.py links                       every relative markdown link in docs/ and README.md resolves
-                                            (file and #anchor); pages under docs/guide, docs/reference and
-                                            docs/method stay under MAX_LINES and name no work periods
+                                            (file and #anchor); every page under docs/ stays under
+                                            MAX_LINES; pages under docs/guide, docs/reference,
+                                            docs/method and the results pages (docs/results.md,
+                                            docs/results/) name no work periods
   check_docs.py reference --asynevo BIN     docs/reference/cli.md lists exactly the flags of every
                                             command's --help, with the defaults --help shows;
                                             docs/reference/config.md lists exactly the
@@ -109,14 +111,16 @@ def check_links():
             if anchor and resolved.endswith(".md") and anchor not in anchors(resolved):
                 fail("%s: link to %s: no heading with anchor #%s in %s" % (path, target, anchor, resolved))
     for path in files:
-        if not re.match(r"docs/(guide|reference|method)/", path):
+        if not path.startswith("docs/"):
             continue
         lines = read(path).count("\n")
         if lines > MAX_LINES:
-            fail("%s: %d lines (pages stay under %d)" % (path, lines, MAX_LINES))
+            fail("%s: %d lines (pages stay under %d; split the page by topic)" % (path, lines, MAX_LINES))
+        if not re.match(r"docs/(guide/|reference/|method/|results/|results\.md$)", path):
+            continue
         for n, line in enumerate(read(path).splitlines(), 1):
             if re.search(r"\bsessions?[ -]\d", line, re.I):
-                fail("%s:%d: names a numbered work period (date it in docs/results.md instead)" % (path, n))
+                fail("%s:%d: names a numbered work period (give the date and commit instead)" % (path, n))
     print("links: %d relative links in %d pages checked" % (link_count, len(files)))
 
 

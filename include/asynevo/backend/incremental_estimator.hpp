@@ -8,7 +8,7 @@
 //                  The exact MAP of the same model; its cost grows with the history, so it OVERSTATES
 //                  iSAM2's per-update cost (iSAM2 re-eliminates only the affected part of its Bayes tree).
 //                  Solved with SPARSE_SCHUR (the window and B: DENSE_SCHUR). Measured on the simulated
-//                  room_poster sequence (docs/results.md): no faster per update than DENSE_SCHUR was at the
+//                  room_poster sequence (docs/results/baselines.md): no faster per update than DENSE_SCHUR was at the
 //                  same number of knots; still ~170 ms more per second of event time, > 1 s per update
 //                  beyond ~160 knots (the reduced camera system over long-lived landmarks is not banded).
 //   frozen         option B: as A, but knots older than `active_knots` from the newest are held
