@@ -13,7 +13,7 @@ namespace asynevo::cli {
 inline CLI::Option* addSensorOption(CLI::App* cmd, std::string& value) {
   const CLI::Validator size_check(
       [](std::string& text) {
-        return tryParseSensorSize(text) ? std::string() : "'" + text + "' is not " + kSensorSizeSyntax;
+        return tryParseSensorSize(text) ? std::string() : "'" + text + "' is not WxH, " + kSensorSizeSyntax;
       },
       "WxH");
   return cmd

@@ -11,6 +11,9 @@ namespace asynevo {
 
 namespace fs = std::filesystem;
 
+const char* const kEventFileNames =
+    "events.aevt, events.txt, events.raw or another *.raw, events.dat, *_td.dat, *_cd.dat or *_data.hdf5";
+
 namespace {
 
 std::optional<std::string> firstExisting(const fs::path& dir, std::initializer_list<const char*> names) {
@@ -63,7 +66,7 @@ std::string findEventFile(const fs::path& dir, const std::string& format) {
   std::sort(candidates.begin(), candidates.end());
   const std::string of_format = format == "auto" ? "" : " for --format " + format;
   if (candidates.empty()) {
-    throw InputError(dir.string(), "no event file" + of_format + " in this folder (expected " + kEventFileNames +
+    throw InputError(dir.string(), "no event file in this folder" + of_format + " (expected " + kEventFileNames +
                                        "; or pass the event file itself as --dataset)");
   }
   // events.aevt is the cache 'asynevo convert' writes next to the recording: it is the same events, read faster.
@@ -72,7 +75,7 @@ std::string findEventFile(const fs::path& dir, const std::string& format) {
   if (candidates.size() > 1) {
     std::string list;
     for (const std::string& name : candidates) list += (list.empty() ? "" : ", ") + name;
-    throw InputError(dir.string(), "several event files" + of_format + " in this folder (" + list +
+    throw InputError(dir.string(), "several event files in this folder" + of_format + " (" + list +
                                        "): pass the one to read as --dataset FOLDER/FILE, or choose the format "
                                        "with --format");
   }

@@ -12,6 +12,11 @@
 
 namespace asynevo {
 
+const char* const kSensorSizeHowTo =
+    "set the sensor size with --sensor WxH, a sensor.yaml (width: W, height: H) in the dataset folder or a "
+    "sensor: block in the configuration";
+const char* const kSensorSizeSyntax = "the sensor's width and height in pixels (1..65535 each), e.g. 346x260";
+
 namespace {
 
 constexpr int kMaxSide = 65535;  // pixel coordinates are 16 bit (core/event.hpp)
@@ -41,7 +46,7 @@ std::optional<SensorSize> tryParseSensorSize(const std::string& text, const std:
 
 SensorSize parseSensorSize(const std::string& text, const std::string& flag) {
   if (std::optional<SensorSize> size = tryParseSensorSize(text, flag)) return *size;
-  throw ConfigError(fmt::format("{} '{}' is not {}", flag, text, kSensorSizeSyntax));
+  throw ConfigError(fmt::format("{} '{}' is not WxH, {}", flag, text, kSensorSizeSyntax));
 }
 
 SensorSize readSensorYaml(const std::string& path) {

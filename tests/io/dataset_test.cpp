@@ -51,10 +51,10 @@ TEST(Dataset, SeveralEventFilesAreAnErrorListingThem) {
   EXPECT_EQ(resolveDataset(dir.path().string(), "evt2").events, dir.file("events.raw"));
   EXPECT_EQ(resolveDataset(dir.path().string(), "dat").events, dir.file("b_td.dat"));
   EXPECT_EQ(errorOf(dir.path().string(), "mvsec"),
-            dir.path().string() + ": no event file for --format mvsec in this folder (expected " + kEventFileNames +
+            dir.path().string() + ": no event file in this folder for --format mvsec (expected " + kEventFileNames +
                 "; or pass the event file itself as --dataset)");
   dir.write("a.raw", "x");
-  EXPECT_NE(errorOf(dir.path().string(), "evt3").find("several event files for --format evt3 in this folder (a.raw, "
+  EXPECT_NE(errorOf(dir.path().string(), "evt3").find("several event files in this folder for --format evt3 (a.raw, "
                                                       "events.raw)"),
             std::string::npos);
   // A file given as --dataset is the choice, whatever else the folder holds.

@@ -38,7 +38,7 @@ TEST(SensorSize, MalformedSizesAreRejectedNamingTheFlag) {
       parseSensorSize(bad);
       ADD_FAILURE() << "no error for '" << bad << "'";
     } catch (const ConfigError& e) {
-      EXPECT_EQ(std::string(e.what()), std::string("--sensor '") + bad + "' is not " + kSensorSizeSyntax);
+      EXPECT_EQ(std::string(e.what()), std::string("--sensor '") + bad + "' is not WxH, " + kSensorSizeSyntax);
     }
   }
 }

@@ -18,8 +18,7 @@ struct DatasetFiles {
 };
 
 /// The event-file names a folder is searched for, in the words of the error messages.
-constexpr const char* kEventFileNames =
-    "events.aevt, events.txt, events.raw or another *.raw, events.dat, *_td.dat, *_cd.dat or *_data.hdf5";
+extern const char* const kEventFileNames;
 
 /// Resolves `path`. A folder must hold an event file (kEventFileNames): events.aevt, a converted cache,
 /// is taken when present; otherwise exactly one of the others must be there (several are an error that

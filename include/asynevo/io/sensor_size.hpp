@@ -25,17 +25,16 @@ struct SensorSize {
   bool isSet() const { return width > 0 && height > 0; }
 };
 
-/// How to set the size, appended to errors about it.
-constexpr const char* kSensorSizeHowTo =
-    "set the sensor size with --sensor WxH, a sensor.yaml (width: W, height: H) in the dataset folder or a "
-    "sensor: block in the configuration";
+/// How to set the size, appended to errors about it. (The message texts live in src/, where the docs check
+/// looks for them: tests/docs/check_docs.py.)
+extern const char* const kSensorSizeHowTo;
 
-/// What a sensor size on the command line looks like, for messages.
-constexpr const char* kSensorSizeSyntax = "WxH, the sensor's width and height in pixels (1..65535 each), e.g. 346x260";
+/// What a sensor size on the command line looks like, for messages ("the sensor's width and height ...").
+extern const char* const kSensorSizeSyntax;
 
 /// Parses "WxH" (e.g. "346x260"; 1..65535 each); nullopt when `text` is anything else.
 std::optional<SensorSize> tryParseSensorSize(const std::string& text, const std::string& origin = "--sensor");
-/// The same, throwing ConfigError ("--sensor '240' is not WxH, ...") for anything else.
+/// The same, throwing ConfigError ("--sensor '240' is not WxH, the sensor's ...") for anything else.
 SensorSize parseSensorSize(const std::string& text, const std::string& flag = "--sensor");
 
 /// Reads a folder's sensor.yaml: a mapping with exactly the keys width and height, positive integers.
