@@ -50,8 +50,15 @@ std::string eventFileKind(const std::string& name) {
   return "";
 }
 
+/// Whether --format narrows the folder's candidates: "auto" does not, and neither does an unknown name
+/// (the reader factory reports it with the list of formats).
+bool formatFilters(const std::string& format) {
+  static const char* const kFormats[] = {"ecd", "mvsec", "aevt", "evt3", "evt2", "dat"};
+  return std::find(std::begin(kFormats), std::end(kFormats), format) != std::end(kFormats);
+}
+
 bool kindMatchesFormat(const std::string& kind, const std::string& format) {
-  if (format == "auto") return true;
+  if (!formatFilters(format)) return true;
   if (kind == "raw") return format == "evt3" || format == "evt2";
   return kind == format;
 }
@@ -64,7 +71,7 @@ std::string findEventFile(const fs::path& dir, const std::string& format) {
     if (entry.is_regular_file() && !kind.empty() && kindMatchesFormat(kind, format)) candidates.push_back(name);
   }
   std::sort(candidates.begin(), candidates.end());
-  const std::string of_format = format == "auto" ? "" : " for --format " + format;
+  const std::string of_format = formatFilters(format) ? " for --format " + format : "";
   if (candidates.empty()) {
     throw InputError(dir.string(), "no event file in this folder" + of_format + " (expected " + kEventFileNames +
                                        "; or pass the event file itself as --dataset)");

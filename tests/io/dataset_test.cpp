@@ -57,6 +57,9 @@ TEST(Dataset, SeveralEventFilesAreAnErrorListingThem) {
   EXPECT_NE(errorOf(dir.path().string(), "evt3").find("several event files in this folder for --format evt3 (a.raw, "
                                                       "events.raw)"),
             std::string::npos);
+  // An unknown --format does not filter (openEventReader names it as unknown).
+  EXPECT_EQ(resolveDataset(dir.file("events.raw"), "foo").events, dir.file("events.raw"));
+  EXPECT_NE(errorOf(dir.path().string(), "foo").find("several event files in this folder ("), std::string::npos);
   // A file given as --dataset is the choice, whatever else the folder holds.
   EXPECT_EQ(resolveDataset(dir.file("events.raw")).events, dir.file("events.raw"));
 }
