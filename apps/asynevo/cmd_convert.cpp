@@ -3,15 +3,17 @@
 #include <fmt/format.h>
 
 #include <string>
-#include <tuple>
+#include <vector>
 
 #include "asynevo/core/config/config.hpp"
 #include "asynevo/core/error.hpp"
 #include "asynevo/io/dataset.hpp"
+#include "asynevo/io/dataset_reader.hpp"
 #include "asynevo/io/event_file.hpp"
 #include "asynevo/io/event_reader.hpp"
 #include "commands.hpp"
 #include "progress.hpp"
+#include "sensor_option.hpp"
 
 namespace asynevo::cli {
 
@@ -21,22 +23,17 @@ struct ConvertOptions {
   std::string dataset;
   std::string format = "auto";
   std::string config;
+  std::string sensor;
   std::string out;
 };
 
 void runConvert(const ConvertOptions& options) {
   const Config config = options.config.empty() ? Config() : loadConfig(options.config);
-  ReaderOptions reader_options;
-  reader_options.format = options.format;
-  reader_options.packet_size = config.input.packet_size;
-  reader_options.max_time_reversal_ns = std::llround(config.input.max_time_reversal_us * 1e3);
-  const DatasetFiles files = resolveDataset(options.dataset);
-  if (!options.config.empty()) {
-    reader_options.width = config.sensor.width;
-    reader_options.height = config.sensor.height;
-  } else {
-    std::tie(reader_options.width, reader_options.height) = sensorSizeFromCalibration(files);
-  }
+  const DatasetFiles files = resolveDataset(options.dataset, options.format);
+  std::vector<std::string> notes;
+  const ReaderOptions reader_options =
+      datasetReaderOptions(files, config, {options.format, options.sensor, "", options.config}, &notes);
+  for (const std::string& note : notes) fmt::print("note: {}\n", note);
   auto reader = openEventReader(files.events, reader_options);
   const std::string partial = options.out + ".partial";  // never leave a truncated file under the real name
   EventFileWriter writer(partial, reader->info().width, reader->info().height);
@@ -69,6 +66,7 @@ void addConvertCommand(CLI::App& app) {
   cmd->add_option("--dataset", options.dataset, "ECD-style folder or event file")->required();
   cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat)");
   cmd->add_option("--config", options.config, "configuration YAML (sensor size, time tolerance)");
+  addSensorOption(cmd, options.sensor);
   cmd->add_option("--out", options.out, "output .aevt file (in a dataset folder: events.aevt)")->required();
   cmd->callback([] { runConvert(options); });
 }

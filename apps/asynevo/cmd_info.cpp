@@ -2,19 +2,21 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <tuple>
 #include <string>
+#include <vector>
 
 #include "asynevo/core/config/config.hpp"
 #include "asynevo/core/error.hpp"
 #include "asynevo/core/time.hpp"
 #include "asynevo/io/calibration_io.hpp"
 #include "asynevo/io/dataset.hpp"
+#include "asynevo/io/dataset_reader.hpp"
 #include "asynevo/io/event_reader.hpp"
 #include "asynevo/io/event_statistics.hpp"
 #include "asynevo/io/groundtruth_reader.hpp"
 #include "commands.hpp"
 #include "progress.hpp"
+#include "sensor_option.hpp"
 
 namespace asynevo::cli {
 
@@ -24,21 +26,15 @@ struct InfoOptions {
   std::string dataset;
   std::string format = "auto";
   std::string config;
+  std::string sensor;
 };
 
 void runInfo(const InfoOptions& options) {
   const Config config = options.config.empty() ? Config() : loadConfig(options.config);
-  const DatasetFiles files = resolveDataset(options.dataset);
-  ReaderOptions reader_options;
-  reader_options.format = options.format;
-  reader_options.packet_size = config.input.packet_size;
-  reader_options.max_time_reversal_ns = std::llround(config.input.max_time_reversal_us * 1e3);
-  if (!options.config.empty()) {  // a config names the sensor explicitly
-    reader_options.width = config.sensor.width;
-    reader_options.height = config.sensor.height;
-  } else {  // else a Kalibr calibration's resolution, else the format's default
-    std::tie(reader_options.width, reader_options.height) = sensorSizeFromCalibration(files);
-  }
+  const DatasetFiles files = resolveDataset(options.dataset, options.format);
+  std::vector<std::string> notes;
+  const ReaderOptions reader_options =
+      datasetReaderOptions(files, config, {options.format, options.sensor, "", options.config}, &notes);
   auto reader = openEventReader(files.events, reader_options);
   Progress progress;
   int64_t first_t_ns = 0;
@@ -56,7 +52,8 @@ void runInfo(const InfoOptions& options) {
   fmt::print("dataset       {}\n", files.root);
   fmt::print("events file   {}\n", info.path);
   fmt::print("format        {}\n", info.format);
-  fmt::print("sensor        {} x {}\n", info.width, info.height);
+  fmt::print("sensor        {} x {} (from {})\n", info.width, info.height, info.size_origin);
+  for (const std::string& note : notes) fmt::print("              note: {}\n", note);
   fmt::print("events        {}\n", stats.events);
   fmt::print("time span     {} .. {} s ({:.6f} s)\n", first, last, stats.durationSeconds());
   fmt::print("event rate    mean {:.3f} M events/s; over {} ms windows: median {:.3f}, max {:.3f} M events/s (at {:.3f} s)\n",
@@ -105,6 +102,7 @@ void addInfoCommand(CLI::App& app) {
   cmd->add_option("--dataset", options.dataset, "ECD-style folder or event file")->required();
   cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat)");
   cmd->add_option("--config", options.config, "configuration YAML (sensor size, time tolerance)");
+  addSensorOption(cmd, options.sensor);
   cmd->callback([] { runInfo(options); });
 }
 

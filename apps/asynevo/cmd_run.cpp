@@ -10,6 +10,7 @@
 #include "asynevo/pipeline/run.hpp"
 #include "commands.hpp"
 #include "progress.hpp"
+#include "sensor_option.hpp"
 
 namespace asynevo::cli {
 
@@ -47,6 +48,7 @@ void addRunCommand(CLI::App& app) {
   cmd->add_option("--calib", run.calib,
                   "calibration file (ECD calib.txt or Kalibr YAML; default: the dataset's)");
   cmd->add_option("--config", run.config_path, "configuration YAML (overrides the defaults; see config/)");
+  addSensorOption(cmd, run.sensor);
   cmd->add_option("--backend", options.backend,
                   "estimator: window (AsynEVO), incremental (full-history smoother baseline) or "
                   "incremental-frozen (the same with old knots held constant)")

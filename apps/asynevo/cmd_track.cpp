@@ -20,10 +20,12 @@
 #include "asynevo/frontend/frontend.hpp"
 #include "asynevo/io/calibration_io.hpp"
 #include "asynevo/io/dataset.hpp"
+#include "asynevo/io/dataset_reader.hpp"
 #include "asynevo/io/event_reader.hpp"
 #include "asynevo/sim/feature_ground_truth.hpp"
 #include "commands.hpp"
 #include "progress.hpp"
+#include "sensor_option.hpp"
 
 namespace asynevo::cli {
 
@@ -35,6 +37,7 @@ struct TrackOptions {
   std::string format = "auto";
   std::string config;
   std::string calib;
+  std::string sensor;
   bool eval = false;
 };
 
@@ -100,7 +103,7 @@ class TrackFileSink final : public frontend::MeasurementSink {
 
 void runTrack(const TrackOptions& options) {
   const Config config = options.config.empty() ? Config() : loadConfig(options.config);
-  const DatasetFiles files = resolveDataset(options.dataset);
+  const DatasetFiles files = resolveDataset(options.dataset, options.format);
   // The ground truth first: a dataset that cannot be evaluated fails before the (long) run.
   std::optional<sim::FeatureGroundTruth> ground_truth;
   if (options.eval) {
@@ -109,14 +112,10 @@ void runTrack(const TrackOptions& options) {
                        "--eval needs a folder written by 'asynevo simulate' (sim.yaml and groundtruth.txt)");
     ground_truth.emplace(sim::loadSimulatedGroundTruth(files.root));
   }
-  ReaderOptions reader_options;
-  reader_options.format = options.format;
-  reader_options.packet_size = config.input.packet_size;
-  reader_options.max_time_reversal_ns = std::llround(config.input.max_time_reversal_us * 1e3);
-  if (!options.config.empty()) {
-    reader_options.width = config.sensor.width;
-    reader_options.height = config.sensor.height;
-  }
+  std::vector<std::string> notes;
+  const ReaderOptions reader_options = datasetReaderOptions(
+      files, config, {options.format, options.sensor, options.calib, options.config}, &notes);
+  for (const std::string& note : notes) fmt::print("note: {}\n", note);
   auto reader = openEventReader(files.events, reader_options);
   const int width = reader->info().width, height = reader->info().height;
 
@@ -158,6 +157,7 @@ void addTrackCommand(CLI::App& app) {
   cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat)");
   cmd->add_option("--config", options.config, "configuration YAML (frontend section, sensor size)");
   cmd->add_option("--calib", options.calib, "calibration file (default: the dataset's calib.txt, if any)");
+  addSensorOption(cmd, options.sensor);
   cmd->add_flag("--eval", options.eval,
                 "simulated datasets ('asynevo simulate' folders): compare every track with its exact ground "
                 "truth and print the errors");

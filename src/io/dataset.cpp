@@ -1,6 +1,8 @@
 #include "asynevo/io/dataset.hpp"
 
+#include <algorithm>
 #include <filesystem>
+#include <vector>
 
 #include "asynevo/core/error.hpp"
 #include "asynevo/io/calibration_io.hpp"
@@ -8,6 +10,9 @@
 namespace asynevo {
 
 namespace fs = std::filesystem;
+
+const char* const kEventFileNames =
+    "events.aevt, events.txt, events.raw or another *.raw, events.dat, *_td.dat, *_cd.dat or *_data.hdf5";
 
 namespace {
 
@@ -18,35 +23,82 @@ std::optional<std::string> firstExisting(const fs::path& dir, std::initializer_l
   return std::nullopt;
 }
 
+bool endsWith(const std::string& name, const std::string& suffix) {
+  return name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
 // MVSEC names its files <sequence>_data.hdf5 and <sequence>_gt.hdf5.
 std::optional<std::string> findBySuffix(const fs::path& dir, const std::string& suffix) {
   std::optional<std::string> found;
   for (const auto& entry : fs::directory_iterator(dir)) {
     const std::string name = entry.path().filename().string();
-    if (entry.is_regular_file() && name.size() > suffix.size() &&
-        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+    if (entry.is_regular_file() && endsWith(name, suffix)) {
       if (!found || entry.path().string() < *found) found = entry.path().string();  // deterministic choice
     }
   }
   return found;
 }
 
+/// The event formats a folder file name stands for ("" = not an event file). The reader still detects
+/// the format by content (--format auto); the name only finds the file.
+std::string eventFileKind(const std::string& name) {
+  if (name == "events.aevt") return "aevt";
+  if (name == "events.txt") return "ecd";
+  if (endsWith(name, ".raw")) return "raw";  // Prophesee RAW, EVT 3.0 or 2.0
+  if (name == "events.dat" || endsWith(name, "_td.dat") || endsWith(name, "_cd.dat")) return "dat";
+  if (endsWith(name, "_data.hdf5")) return "mvsec";
+  return "";
+}
+
+/// Whether --format narrows the folder's candidates: "auto" does not, and neither does an unknown name
+/// (the reader factory reports it with the list of formats).
+bool formatFilters(const std::string& format) {
+  static const char* const kFormats[] = {"ecd", "mvsec", "aevt", "evt3", "evt2", "dat"};
+  return std::find(std::begin(kFormats), std::end(kFormats), format) != std::end(kFormats);
+}
+
+bool kindMatchesFormat(const std::string& kind, const std::string& format) {
+  if (!formatFilters(format)) return true;
+  if (kind == "raw") return format == "evt3" || format == "evt2";
+  return kind == format;
+}
+
+std::string findEventFile(const fs::path& dir, const std::string& format) {
+  std::vector<std::string> candidates;  // file names, sorted
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    const std::string kind = eventFileKind(name);
+    if (entry.is_regular_file() && !kind.empty() && kindMatchesFormat(kind, format)) candidates.push_back(name);
+  }
+  std::sort(candidates.begin(), candidates.end());
+  const std::string of_format = formatFilters(format) ? " for --format " + format : "";
+  if (candidates.empty()) {
+    throw InputError(dir.string(), "no event file in this folder" + of_format + " (expected " + kEventFileNames +
+                                       "; or pass the event file itself as --dataset)");
+  }
+  // events.aevt is the cache 'asynevo convert' writes next to the recording: it is the same events, read faster.
+  if (std::find(candidates.begin(), candidates.end(), "events.aevt") != candidates.end())
+    return (dir / "events.aevt").string();
+  if (candidates.size() > 1) {
+    std::string list;
+    for (const std::string& name : candidates) list += (list.empty() ? "" : ", ") + name;
+    throw InputError(dir.string(), "several event files in this folder" + of_format + " (" + list +
+                                       "): pass the one to read as --dataset FOLDER/FILE, or choose the format "
+                                       "with --format");
+  }
+  return (dir / candidates.front()).string();
+}
+
 }  // namespace
 
-DatasetFiles resolveDataset(const std::string& path) {
+DatasetFiles resolveDataset(const std::string& path, const std::string& format) {
   std::error_code ec;
   const fs::path p(path);
   if (!fs::exists(p, ec)) throw InputError(path, "no such file or folder");
   DatasetFiles files;
   if (fs::is_directory(p, ec)) {
     files.root = p.string();
-    if (auto events = firstExisting(p, {"events.aevt", "events.txt"})) {
-      files.events = *events;
-    } else if (auto hdf5 = findBySuffix(p, "_data.hdf5")) {
-      files.events = *hdf5;
-    } else {
-      throw InputError(path, "no event file in this folder (expected events.txt, events.aevt or *_data.hdf5)");
-    }
+    files.events = findEventFile(p, format);
   } else {
     files.events = p.string();
     files.root = p.parent_path().empty() ? "." : p.parent_path().string();
@@ -56,6 +108,7 @@ DatasetFiles resolveDataset(const std::string& path) {
   if (!files.calibration) files.calibration = findBySuffix(root, "camchain-imucam.yaml");
   files.groundtruth = firstExisting(root, {"groundtruth.txt", "stamped_groundtruth.txt"});
   if (!files.groundtruth) files.groundtruth = findBySuffix(root, "_gt.hdf5");
+  files.sensor = firstExisting(root, {"sensor.yaml"});
   return files;
 }
 

@@ -40,13 +40,15 @@ EcdTextReader::EcdTextReader(const std::string& path, const ReaderOptions& optio
     : file_(openFile(path, "rb")),
       buffer_(kBufferBytes),
       packet_size_(options.packet_size),
-      checker_(options.width > 0 ? options.width : kEcdWidth, options.height > 0 ? options.height : kEcdHeight,
-               options.max_time_reversal_ns) {
+      checker_(1, 1, 0) {
   if (!file_) throw InputError(path, std::string("cannot open event file: ") + std::strerror(errno));
   info_.path = path;
   info_.format = "ecd";
   info_.width = options.width > 0 ? options.width : kEcdWidth;
   info_.height = options.height > 0 ? options.height : kEcdHeight;
+  // ECD text stores no size: whatever is in use can be set otherwise, so the out-of-sensor error says how.
+  info_.size_origin = options.width > 0 || options.height > 0 ? options.size_origin : "the ECD text default, a DAVIS240C";
+  checker_ = EventChecker(info_.width, info_.height, options.max_time_reversal_ns, info_.size_origin, true);
 }
 
 void EcdTextReader::fail(const std::string& message) const { throw InputError::atLine(info_.path, line_, message); }

@@ -9,20 +9,27 @@
 #include <fmt/format.h>
 
 #include "asynevo/core/event.hpp"
+#include "asynevo/io/sensor_size.hpp"
 
 namespace asynevo::io_detail {
 
 class EventChecker {
  public:
-  EventChecker(int width, int height, int64_t max_time_reversal_ns)
-      : width_(width), height_(height), tolerance_ns_(max_time_reversal_ns) {}
+  /// `size_origin` names where the size came from in the out-of-sensor message; `size_settable` adds how to
+  /// set another size (not for a size a file's header states: a pixel outside it is a damaged file).
+  EventChecker(int width, int height, int64_t max_time_reversal_ns, std::string size_origin = "",
+               bool size_settable = false)
+      : width_(width), height_(height), tolerance_ns_(max_time_reversal_ns) {
+    if (!size_origin.empty()) size_note_ = " (size from " + size_origin + ")";
+    if (size_settable) size_note_ += std::string("; ") + kSensorSizeHowTo;
+  }
 
   /// Fills `out` from the raw fields and returns true, or returns false with `error` set.
   /// Polarity 0 is read as OFF (-1).
   bool accept(int64_t t_ns, int64_t x, int64_t y, int64_t polarity, Event& out, std::string& error) {
     if (x < 0 || x >= width_ || y < 0 || y >= height_) {
       error = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
-              std::to_string(width_) + "x" + std::to_string(height_) + " sensor";
+              std::to_string(width_) + "x" + std::to_string(height_) + " sensor" + size_note_;
       return false;
     }
     if (polarity < -1 || polarity > 1) {
@@ -54,6 +61,7 @@ class EventChecker {
   int width_;
   int height_;
   int64_t tolerance_ns_;
+  std::string size_note_;
   int64_t last_t_ns_ = INT64_MIN;
   uint64_t clamped_ = 0;
 };

@@ -107,9 +107,11 @@ EventFileReader::EventFileReader(const std::string& path, const ReaderOptions& o
     throw InputError(path, "invalid sensor size in .aevt header");
   if ((options.width > 0 && options.width != info_.width) || (options.height > 0 && options.height != info_.height)) {
     throw InputError(path, "sensor size " + std::to_string(info_.width) + "x" + std::to_string(info_.height) +
-                               " differs from the configured " + std::to_string(options.width) + "x" +
-                               std::to_string(options.height));
+                               " in the .aevt header differs from " + std::to_string(options.width) + "x" +
+                               std::to_string(options.height) + " set by " + options.size_origin +
+                               " (the file's own size is kept only when they agree: correct or drop that setting)");
   }
+  info_.size_origin = "the .aevt header";
   std::fseek(file_.get(), 0, SEEK_END);
   const long size = std::ftell(file_.get());
   std::fseek(file_.get(), static_cast<long>(kEventFileHeaderBytes), SEEK_SET);
@@ -119,7 +121,7 @@ EventFileReader::EventFileReader(const std::string& path, const ReaderOptions& o
                                " events (" + std::to_string(expected) + " bytes) but the file has " +
                                std::to_string(size) + " bytes");
   }
-  checker_ = EventChecker(info_.width, info_.height, options.max_time_reversal_ns);
+  checker_ = EventChecker(info_.width, info_.height, options.max_time_reversal_ns, info_.size_origin);
 }
 
 bool EventFileReader::read(EventPacket& packet) {

@@ -14,12 +14,14 @@ constexpr int kMvsecHeight = 260;
 
 MvsecReader::MvsecReader(const std::string& path, const ReaderOptions& options)
     : packet_size_(options.packet_size),
-      checker_(options.width > 0 ? options.width : kMvsecWidth, options.height > 0 ? options.height : kMvsecHeight,
-               options.max_time_reversal_ns) {
+      checker_(1, 1, 0) {
   info_.path = path;
   info_.format = "mvsec";
   info_.width = options.width > 0 ? options.width : kMvsecWidth;
   info_.height = options.height > 0 ? options.height : kMvsecHeight;
+  // The MVSEC file stores no size either (its sensor is a DAVIS346).
+  info_.size_origin = options.width > 0 || options.height > 0 ? options.size_origin : "the MVSEC default, a DAVIS346";
+  checker_ = EventChecker(info_.width, info_.height, options.max_time_reversal_ns, info_.size_origin, true);
   const H5QuietErrors quiet;
   file_ = H5File(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
   if (!file_.valid()) throw InputError(path, "cannot open as HDF5 (missing, unreadable or truncated file)");

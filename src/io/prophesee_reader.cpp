@@ -297,21 +297,30 @@ void PropheseeReader::startData(uint64_t data_offset, int limit) {
   const bool configured = options_.width > 0 && options_.height > 0;
   int width = 0;
   int height = 0;
+  bool settable = true;  // whether the out-of-sensor error says how to set another size
   if (stated.line != nullptr) {
+    // The header is the recording's own statement: another size given for it is a mistake, not an override.
     if (configured && (options_.width != stated.width || options_.height != stated.height)) {
-      throw InputError::atByte(info_.path, stated.line->offset,
-                               fmt::format("sensor size {}x{} in the header differs from the configured {}x{}",
-                                           stated.width, stated.height, options_.width, options_.height));
+      throw InputError::atByte(
+          info_.path, stated.line->offset,
+          fmt::format("sensor size {}x{} in the header differs from {}x{} set by {} (the file's own size is kept "
+                      "only when they agree: correct or drop that setting)",
+                      stated.width, stated.height, options_.width, options_.height, options_.size_origin));
     }
     width = stated.width;
     height = stated.height;
+    info_.size_origin = "the file's header";
+    settable = false;
   } else if (configured) {
     width = options_.width;
     height = options_.height;
+    info_.size_origin = options_.size_origin;
   } else if (const KnownCamera* camera = knownCamera(header_)) {
     width = camera->width;
     height = camera->height;
+    info_.size_origin = "the camera the header names";
   } else {
+    info_.size_origin = "the events' extent, the header states no size";
     // No size anywhere: one pass over the events to find their bounding box (still in bounded memory).
     checker_ = EventChecker(limit, limit, options_.max_time_reversal_ns);
     if (std::fseek(file_.get(), static_cast<long>(data_offset_), SEEK_SET) != 0)
@@ -332,7 +341,7 @@ void PropheseeReader::startData(uint64_t data_offset, int limit) {
   }
   info_.width = width;
   info_.height = height;
-  checker_ = EventChecker(width, height, options_.max_time_reversal_ns);
+  checker_ = EventChecker(width, height, options_.max_time_reversal_ns, info_.size_origin, settable);
   if (std::fseek(file_.get(), static_cast<long>(data_offset_), SEEK_SET) != 0)
     throw InputError(info_.path, "cannot seek to the event data");
   pos_ = end_ = filled_ = 0;

@@ -14,6 +14,7 @@
 #include "asynevo/core/time.hpp"
 #include "asynevo/io/calibration_io.hpp"
 #include "asynevo/io/dataset.hpp"
+#include "asynevo/io/dataset_reader.hpp"
 #include "asynevo/io/event_reader.hpp"
 #include "asynevo/io/groundtruth_reader.hpp"
 #include "asynevo/io/repeat_reader.hpp"
@@ -68,21 +69,17 @@ RunSummary runDataset(const RunOptions& options,
   // Everything that can be checked before reading events is checked first.
   Config config = options.config ? *options.config
                                  : (options.config_path.empty() ? Config() : loadConfig(options.config_path));
-  const DatasetFiles files = resolveDataset(options.dataset);
+  const DatasetFiles files = resolveDataset(options.dataset, options.format);
   const std::string calib = !options.calib.empty() ? options.calib : files.calibration.value_or("");
   if (calib.empty())
     throw InputError(files.root,
                      "no camera calibration: the dataset folder has no calib.txt or Kalibr camchain .yaml; "
                      "pass --calib FILE");
 
-  ReaderOptions reader_options;
-  reader_options.format = options.format;
-  reader_options.packet_size = config.input.packet_size;
-  reader_options.max_time_reversal_ns = std::llround(config.input.max_time_reversal_us * 1e3);
-  if (options.config || !options.config_path.empty()) {
-    reader_options.width = config.sensor.width;
-    reader_options.height = config.sensor.height;
-  }
+  // The sensor size by precedence: --sensor, the configuration's sensor block, sensor.yaml, a camchain's
+  // resolution, the format (io/sensor_size.hpp).
+  const ReaderOptions reader_options = datasetReaderOptions(
+      files, config, {options.format, options.sensor, options.calib, options.config_path}, &summary.warnings);
   if (options.repeat < 1) throw ConfigError(fmt::format("--repeat must be at least 1, not {}", options.repeat));
   std::unique_ptr<EventReader> reader =
       options.repeat == 1
@@ -92,6 +89,7 @@ RunSummary runDataset(const RunOptions& options,
   summary.format = reader->info().format;
   summary.width = reader->info().width;
   summary.height = reader->info().height;
+  summary.size_origin = reader->info().size_origin;
   config.sensor.width = summary.width;
   config.sensor.height = summary.height;
   config.validate();
@@ -101,8 +99,9 @@ RunSummary runDataset(const RunOptions& options,
   summary.calibration = calib;
   if (camera.width() != summary.width || camera.height() != summary.height)
     throw InputError(
-        calib, fmt::format("calibration is for {}x{} pixels but the events ({}) are {}x{}", camera.width(),
-                           camera.height(), files.events, summary.width, summary.height));
+        calib, fmt::format("calibration is for {}x{} pixels but the events ({}) are {}x{} (size from {})",
+                           camera.width(), camera.height(), files.events, summary.width, summary.height,
+                           summary.size_origin));
 
   // Outputs that do not depend on the run come first: a failed run still says how it was configured.
   RunFolderWriter writer(options.out);
@@ -234,6 +233,7 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("format", s.format)
       .add("width", s.width)
       .add("height", s.height)
+      .add("size_origin", s.size_origin)
       .add("calibration", s.calibration)
       .add("first_event_s", nsToSeconds(p.first_t_ns))
       .add("last_event_s", nsToSeconds(p.last_t_ns))

@@ -26,11 +26,11 @@ TEST(InfoCommand, DescribesPropheseeRecordings) {
     const char* span_line;
   };
   const Expected samples[] = {
-      {"evt3/evt3_sample.raw", "format        evt3\n", "sensor        1280 x 720\n", "events        219596\n",
+      {"evt3/evt3_sample.raw", "format        evt3\n", "sensor        1280 x 720 (from the camera the header names)\n", "events        219596\n",
        "time span     11.718656000 .. 11.727457000 s"},
-      {"evt2/evt2_sample.raw", "format        evt2\n", "sensor        640 x 480\n", "events        539481\n",
+      {"evt2/evt2_sample.raw", "format        evt2\n", "sensor        640 x 480 (from the camera the header names)\n", "events        539481\n",
        "time span     1.317888000 .. 1.367888000 s (0.050000 s)"},
-      {"dat/sample_ncars.dat", "format        dat\n", "sensor        78 x 42\n", "events        2009\n",
+      {"dat/sample_ncars.dat", "format        dat\n", "sensor        78 x 42 (from the events' extent, the header states no size)\n", "events        2009\n",
        "time span     0.000000000 .. 0.099952000 s"},
   };
   for (const Expected& s : samples) {
@@ -64,7 +64,7 @@ TEST(InfoCommand, CountsPropheseeTriggersAndSkippedWords) {
                                              std::string("\x01\x80\x03\x00\x05\x28\x01\xA0\x00\xE0", 10));
   const auto result = runAsynevo("info --dataset " + path);
   EXPECT_EQ(result.exit_code, 0) << result.output;
-  for (const char* line : {"format        evt3\n", "sensor        64 x 32\n", "events        1\n",
+  for (const char* line : {"format        evt3\n", "sensor        64 x 32 (from the file's header)\n", "events        1\n",
                            "time span     0.004096000 .. 0.004096000 s", "triggers      1 external-trigger events",
                            "skipped       1 encoded words"}) {
     EXPECT_NE(result.output.find(line), std::string::npos) << "expected '" << line << "' in:\n" << result.output;

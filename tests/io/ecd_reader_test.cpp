@@ -123,6 +123,11 @@ struct BadCase {
   const char* message;
 };
 
+// ECD text stores no sensor size: an out-of-sensor error says which size was used and how to set another.
+#define ECD_SIZE_NOTE                                                                                          \
+  " (size from the ECD text default, a DAVIS240C); set the sensor size with --sensor WxH, a sensor.yaml "     \
+  "(width: W, height: H) in the dataset folder or a sensor: block in the configuration"
+
 TEST(EcdReader, BadInputNamesFileAndLine) {
   const BadCase cases[] = {
       {"0.1 1 2 1\n0.2 1 2\n", ":2: expected 4 fields 't x y p', found 3 (truncated line?)"},
@@ -132,9 +137,9 @@ TEST(EcdReader, BadInputNamesFileAndLine) {
       {"inf 1 2 1\n", ":1: time 'inf' is not a finite number of seconds"},
       {"0.1 1.5 2 1\n", ":1: x '1.5' is not an integer"},
       {"0.1 1 y 1\n", ":1: y 'y' is not an integer"},
-      {"0.1 240 2 1\n", ":1: pixel (240, 2) is outside the 240x180 sensor"},
-      {"0.1 1 180 1\n", ":1: pixel (1, 180) is outside the 240x180 sensor"},
-      {"0.1 -1 2 1\n", ":1: pixel (-1, 2) is outside the 240x180 sensor"},
+      {"0.1 240 2 1\n", ":1: pixel (240, 2) is outside the 240x180 sensor" ECD_SIZE_NOTE},
+      {"0.1 1 180 1\n", ":1: pixel (1, 180) is outside the 240x180 sensor" ECD_SIZE_NOTE},
+      {"0.1 -1 2 1\n", ":1: pixel (-1, 2) is outside the 240x180 sensor" ECD_SIZE_NOTE},
       {"0.1 1 2 2\n", ":1: polarity 2 is not one of 0, 1, -1"},
       {"0.2 1 2 1\n0.1 1 2 1\n",
        ":2: time goes backwards by 100000000 ns (tolerance input.max_time_reversal_us = 0); the events must "

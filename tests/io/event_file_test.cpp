@@ -82,7 +82,7 @@ TEST(EventFile, OutOfSensorRecordIsReportedByIndex) {
     readAllEvents(path);
     ADD_FAILURE();
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), path + ": record 1: pixel (300, 1) is outside the 240x180 sensor");
+    EXPECT_EQ(std::string(e.what()), path + ": record 1: pixel (300, 1) is outside the 240x180 sensor (size from the .aevt header)");
   }
 }
 

@@ -68,7 +68,9 @@ void expectRecordError(const std::vector<std::array<double, 4>>& rows, const std
 
 TEST(MvsecReader, BadRecordsNameTheRecord) {
   expectRecordError({{1, 1, 0.1, 1}, {1, 1, std::nan(""), 1}}, "record 1: non-finite value (NaN or inf)");
-  expectRecordError({{400, 1, 0.1, 1}}, "record 0: pixel (400, 1) is outside the 346x260 sensor");
+  expectRecordError({{400, 1, 0.1, 1}}, "record 0: pixel (400, 1) is outside the 346x260 sensor (size from the MVSEC default, a DAVIS346); "
+                    "set the sensor size with --sensor WxH, a sensor.yaml (width: W, height: H) in the dataset folder "
+                    "or a sensor: block in the configuration");
   expectRecordError({{1, 1, 0.1, 5}}, "record 0: polarity 5 is not one of 0, 1, -1");
   expectRecordError({{1, 1, 0.2, 1}, {1, 1, 0.1, 1}},
                     "record 1: time goes backwards by 100000000 ns (tolerance input.max_time_reversal_us = 0); "

@@ -440,7 +440,8 @@ TEST(PropheseeGeometry, ConfiguredSizeMustAgreeWithTheHeader) {
   EXPECT_EQ(readAllEvents(path, options).size(), 1u);
   options.width = 640;
   options.height = 480;
-  expectErrorAt(path, 10, "sensor size 320x240 in the header differs from the configured 640x480", options);
+  options.size_origin = "--sensor";
+  expectErrorAt(path, 10, "sensor size 320x240 in the header differs from 640x480 set by --sensor", options);
   // A known camera's size is only a default: a configured size replaces it.
   const auto known = dir.write("k.raw", "% evt 3.0\n% plugin_name hal_plugin_imx636_evk4\n" +
                                             evt3Words({timeHigh(1), addrY(4), addrX(9, 1)}));

@@ -1,6 +1,7 @@
 #pragma once
-// A dataset on disk: an ECD-style folder (events.txt, calib.txt, optional groundtruth.txt) or a single
-// event file. Resolving a path tells which files play which role; nothing is read yet.
+// A dataset on disk: an ECD-style folder (an event file, calib.txt or a camchain, optional
+// groundtruth.txt and sensor.yaml) or a single event file. Resolving a path tells which files play which
+// role; nothing is read yet.
 
 #include <optional>
 #include <string>
@@ -13,18 +14,25 @@ struct DatasetFiles {
   std::string events;                      ///< event file
   std::optional<std::string> calibration;  ///< calib.txt or a Kalibr camchain YAML, when present
   std::optional<std::string> groundtruth;  ///< groundtruth.txt (ECD/TUM) or MVSEC *_gt.hdf5
+  std::optional<std::string> sensor;       ///< sensor.yaml (the sensor size), when present
 };
 
-/// Resolves `path`: a folder must hold an event file (events.txt, events.aevt or *_data.hdf5); a file
-/// is taken as the event file. Throws InputError when nothing usable is found.
-DatasetFiles resolveDataset(const std::string& path);
+/// The event-file names a folder is searched for, in the words of the error messages.
+extern const char* const kEventFileNames;
+
+/// Resolves `path`. A folder must hold an event file (kEventFileNames): events.aevt, a converted cache,
+/// is taken when present; otherwise exactly one of the others must be there (several are an error that
+/// lists them). `format` other than "auto" keeps only that format's files (ecd: .txt, evt3/evt2: .raw,
+/// dat: .dat, mvsec: .hdf5, aevt: .aevt). A file is taken as the event file. Throws InputError when
+/// nothing usable is found.
+DatasetFiles resolveDataset(const std::string& path, const std::string& format = "auto");
 
 /// True for calibration files in Kalibr camchain YAML form (by extension: .yaml / .yml).
 bool isKalibrCalibration(const std::string& path);
 
-/// The sensor size to read a dataset's events with: the resolution of its Kalibr calibration when it has
-/// one, else {0, 0} (the event format's own default: 240×180 for ECD text, 346×260 for MVSEC, the
-/// header for .aevt). An explicit configuration (Config::sensor) overrides this in the commands.
+/// The resolution of the dataset's Kalibr calibration when it has one, else {0, 0}. Commands choose the
+/// size with chooseSensorSize (io/sensor_size.hpp), which ranks this below --sensor, the configuration
+/// and sensor.yaml.
 std::pair<int, int> sensorSizeFromCalibration(const DatasetFiles& files);
 
 }  // namespace asynevo

@@ -19,6 +19,9 @@ struct ReaderOptions {
   std::string format = "auto";
   int width = 0;                      ///< sensor columns; 0 = the format's own or default (ECD: 240)
   int height = 0;                     ///< sensor rows; 0 = the format's own or default (ECD: 180)
+  /// Where width and height were set, for messages ("--sensor", "the configuration c.yaml", ...; see
+  /// io/sensor_size.hpp). A size that differs from the one a file's header states is an error naming it.
+  std::string size_origin = "the reader options";
   int packet_size = 65536;            ///< events per packet
   int64_t max_time_reversal_ns = 0;   ///< backward steps up to this are clamped to the previous time
 };
@@ -29,6 +32,8 @@ struct StreamInfo {
   std::string format;   ///< "ecd", "mvsec", "aevt", "evt3", "evt2", "dat"
   int width = 0;
   int height = 0;
+  std::string size_origin;  ///< where width and height came from: ReaderOptions::size_origin, or the format's
+                            ///< ("the ECD text default", "the .aevt header", ...)
 };
 
 /// Counters a reader keeps while streaming.

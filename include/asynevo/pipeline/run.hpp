@@ -29,6 +29,7 @@ std::optional<BackendKind> parseBackendKind(const std::string& name);
 struct RunOptions {
   std::string dataset;  ///< ECD-style folder or event file
   std::string format = "auto";
+  std::string sensor;            ///< --sensor WxH ("" = from the configuration or the dataset, io/sensor_size.hpp)
   std::string calib;             ///< "" = the dataset's own calibration file
   std::string config_path;       ///< "" = defaults (or `config` below)
   std::optional<Config> config;  ///< used instead of config_path when set (the demo)
@@ -48,6 +49,7 @@ struct RunSummary {
   std::string calibration;     ///< the calibration file used
   std::string format;
   int width = 0, height = 0;
+  std::string size_origin;  ///< where width and height came from
   Config config;  ///< effective configuration
   std::string backend_name;
   PipelineStats pipeline;

@@ -137,6 +137,15 @@ void applyConfigYaml(const std::string& yaml_text, const std::string& origin, Co
   config.visit(loader);
   loader.rejectUnknownKeys();
   config.validate();
+  const YAML::Node sensor = root["sensor"];
+  if (sensor && sensor.IsMap() && (sensor["width"] || sensor["height"])) {
+    if (!sensor["width"] || !sensor["height"]) {
+      throw InputError::atLine(origin, static_cast<uint64_t>(sensor.Mark().line + 1),
+                               "'sensor' gives only one of width and height: give both, or neither to take the "
+                               "size from the dataset");
+    }
+    config.sensor.set_by_file = true;
+  }
 }
 
 Config loadConfig(const std::string& path) {

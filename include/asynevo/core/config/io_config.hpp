@@ -8,6 +8,9 @@ namespace asynevo {
 struct SensorConfig {
   int width = 240;   ///< sensor columns (DAVIS240C default; ECD calib.txt does not store it)
   int height = 180;  ///< sensor rows
+  /// Not a key: true once a configuration file names the size. Only then does the size rank above the
+  /// dataset's own (sensor.yaml, calibration, format; io/sensor_size.hpp); else it is the fallback.
+  bool set_by_file = false;
 
   template <class V>
   void visit(V& v) {
