@@ -242,10 +242,10 @@ bool Aedat4Reader::read(EventPacket& packet) {
       const auto t_us = aedat4::loadLe<int64_t>(p);
       const auto x = aedat4::loadLe<int16_t>(p + 8);
       const auto y = aedat4::loadLe<int16_t>(p + 10);
-      if (t_us > kMaxTimeUs || t_us < -kMaxTimeUs || !checker_.accept(t_us * 1000, x, y, p[12], out[n + i], error_)) {
-        if (t_us > kMaxTimeUs || t_us < -kMaxTimeUs) error_ = fmt::format("time {} µs is out of range", t_us);
+      const bool representable = t_us <= kMaxTimeUs && t_us >= -kMaxTimeUs;
+      if (!representable) error_ = fmt::format("time {} µs is out of range", t_us);
+      if (!representable || !checker_.accept(t_us * 1000, x, y, p[12], out[n + i], error_))
         fail(packet_offset_, fmt::format("{}, event {}: {}", packetLabel(), next_event_ + i, error_));
-      }
     }
     n += take;
     next_event_ += take;
