@@ -14,6 +14,7 @@
 
 #include "aedat4_fixture.hpp"
 #include "asynevo/io/event_reader.hpp"
+#include "read_all_bench.hpp"
 
 namespace asynevo {
 namespace {
@@ -53,28 +54,9 @@ const std::string& zstdFile() {
   return path;
 }
 
-void readAll(benchmark::State& state, const std::string& path) {
-  EventPacket packet;
-  {  // warm the page cache
-    auto reader = openEventReader(path);
-    while (reader->read(packet)) {
-    }
-  }
-  int64_t total = 0;
-  for (auto _ : state) {
-    auto reader = openEventReader(path);
-    int64_t n = 0;
-    while (reader->read(packet)) n += static_cast<int64_t>(packet.size());
-    benchmark::DoNotOptimize(n);
-    total += n;
-  }
-  state.SetItemsProcessed(total);
-  state.counters["Mevents/s"] = benchmark::Counter(static_cast<double>(total) * 1e-6, benchmark::Counter::kIsRate);
-}
-
-void BM_Aedat4UncompressedRead10M(benchmark::State& state) { readAll(state, noneFile()); }
-void BM_Aedat4Lz4Read10M(benchmark::State& state) { readAll(state, lz4File()); }
-void BM_Aedat4ZstdRead10M(benchmark::State& state) { readAll(state, zstdFile()); }
+void BM_Aedat4UncompressedRead10M(benchmark::State& state) { benchmarkReadAll(state, noneFile(), true); }
+void BM_Aedat4Lz4Read10M(benchmark::State& state) { benchmarkReadAll(state, lz4File(), true); }
+void BM_Aedat4ZstdRead10M(benchmark::State& state) { benchmarkReadAll(state, zstdFile(), true); }
 
 BENCHMARK(BM_Aedat4UncompressedRead10M)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_Aedat4Lz4Read10M)->Unit(benchmark::kMillisecond)->Iterations(3);

@@ -8,9 +8,11 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <tuple>
 
 #include "aedat4_flatbuffers.hpp"
 #include "asynevo/core/error.hpp"
+#include "event_extent.hpp"
 
 namespace asynevo::io_detail {
 
@@ -84,17 +86,7 @@ Aedat4Reader::Aedat4Reader(const std::string& path, const ReaderOptions& options
   } else {  // one pass over the events to find their bounding box (still one packet at a time)
     checker_ = EventChecker(kCoordinateLimit, kCoordinateLimit, options_.max_time_reversal_ns);
     rewind();
-    EventPacket packet;
-    int max_x = 0;
-    int max_y = 0;
-    while (read(packet)) {
-      for (const Event& e : packet.events) {
-        max_x = std::max<int>(max_x, e.x);
-        max_y = std::max<int>(max_y, e.y);
-      }
-    }
-    info_.width = max_x + 1;
-    info_.height = max_y + 1;
+    std::tie(info_.width, info_.height) = extentOfEvents(*this);
   }
   checker_ = EventChecker(info_.width, info_.height, options_.max_time_reversal_ns);
   rewind();

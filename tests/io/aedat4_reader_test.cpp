@@ -23,6 +23,9 @@
 namespace asynevo {
 namespace {
 
+using testing::errorOf;
+using testing::ev;
+using testing::expectErrorAt;
 using testing::TempDir;
 namespace fx = testing::aedat4;
 
@@ -32,23 +35,6 @@ std::string sample(const std::string& name) { return std::string(ASYNEVO_SHARED_
   if (!std::filesystem::exists(path))                                                                           \
   GTEST_SKIP() << "sample recording " << (path) << " not found: the shared data folder (../shared/data beside " \
                   "the repository) is missing; these files are not copied into the repository"
-
-// The message of the InputError reading the whole file throws, or "" when there is none.
-std::string readError(const std::string& path, const ReaderOptions& options = {}) {
-  try {
-    readAllEvents(path, options);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-// Expects "<path>: byte <offset>: <text>..." (the message may continue after the text).
-void expectByteError(const std::string& path, uint64_t offset, const std::string& text, const ReaderOptions& options = {}) {
-  const std::string message = readError(path, options);
-  const std::string expected = path + ": byte " + std::to_string(offset) + ": " + text;
-  EXPECT_EQ(message.substr(0, expected.size()), expected) << "full message: " << message;
-}
 
 const ContainerStream* streamWithId(const ReaderStats& stats, int id) {
   for (const ContainerStream& s : stats.streams) {
@@ -181,15 +167,6 @@ std::vector<std::pair<int, std::string>> standardPackets() {
           {2, fx::imuPacket(3, 2600)}};
 }
 
-Event ev(int64_t t_us, int x, int y, int p) {
-  Event e;
-  e.t_ns = t_us * 1000;
-  e.x = static_cast<uint16_t>(x);
-  e.y = static_cast<uint16_t>(y);
-  e.polarity = static_cast<int8_t>(p);
-  return e;
-}
-
 TEST(Aedat4Reader, ReadsEveryCompressionOfTheSpecification) {
   TempDir dir;
   const std::vector<Event> expected = {ev(1000, 1, 2, 1), ev(1000, 3, 4, -1), ev(1500, 63, 31, 1), ev(2000, 10, 11, -1),
@@ -240,7 +217,7 @@ TEST(Aedat4Reader, SensorSizeFromTheFileElseConfiguredElseTheEvents) {
   EXPECT_EQ(readAllEvents(path, options).size(), 5u);  // the same size as the file's: accepted
   options.width = 640;
   options.height = 480;
-  expectByteError(path, 18, "sensor size 64x32 in the file (event stream 1) differs from the configured 640x480",
+  expectErrorAt(path, 18, "sensor size 64x32 in the file (event stream 1) differs from the configured 640x480",
                   options);
 
   const std::vector<fx::StreamSpec> unsized = {{0, "EVTS", "events"}};
@@ -258,7 +235,7 @@ TEST(Aedat4Reader, AutoDetectionByTheVersionLine) {
   const auto path = dir.write("recording.bin", buildFile(fx::kZstd, standardPackets()));
   EXPECT_EQ(openEventReader(path)->info().format, "aedat4");
   const auto aedat3 = dir.write("old.aedat", "#!AER-DAT3.1\r\n#Format: RAW\r\n#End Of ASCII Header\r\n");
-  const std::string message = readError(aedat3);
+  const std::string message = errorOf(aedat3);
   EXPECT_EQ(message, aedat3 + ": byte 0: the version line '#!AER-DAT3.1' names an AEDAT version AsynEVO does not "
                               "read (only AEDAT 4.0, '#!AER-DAT4.0')");
 }
@@ -274,38 +251,38 @@ TEST(Aedat4Reader, BadHeaders) {
   const std::string xml = fx::infoXml(kStreams);
 
   auto path = dir.write("magic.aedat4", "#!AER-DAT4.1\r\n" + good.substr(14));
-  expectByteError(path, 0, "not an AEDAT 4.0 file: it does not start with the version line '#!AER-DAT4.0\\r\\n' "
+  expectErrorAt(path, 0, "not an AEDAT 4.0 file: it does not start with the version line '#!AER-DAT4.0\\r\\n' "
                            "(it starts with '#!AER-DAT4.1')", aedat4);
   path = dir.write("short.aedat4", good.substr(0, 16));
-  expectByteError(path, 14, "truncated: the file ends before the IOHeader size", aedat4);
+  expectErrorAt(path, 14, "truncated: the file ends before the IOHeader size", aedat4);
   path = dir.write("cut.aedat4", good.substr(0, 100));
-  expectByteError(path, 18, "truncated: the IOHeader has 82 of its", aedat4);
+  expectErrorAt(path, 18, "truncated: the IOHeader has 82 of its", aedat4);
 
   std::string header = fx::ioHeader(fx::kNone, -1, xml);
   header[7] = '\x7F';  // the root offset points far outside the FlatBuffer
   path = dir.write("root.aedat4", fx::kMagic + header);
-  expectByteError(path, 18, "the IOHeader FlatBuffer fails verification", aedat4);
+  expectErrorAt(path, 18, "the IOHeader FlatBuffer fails verification", aedat4);
   header = fx::ioHeader(fx::kNone, -1, xml);
   header[44] = '\xFF';  // the info node string's length reaches past the buffer
   path = dir.write("string.aedat4", fx::kMagic + header);
-  expectByteError(path, 18, "the IOHeader FlatBuffer fails verification", aedat4);
+  expectErrorAt(path, 18, "the IOHeader FlatBuffer fails verification", aedat4);
 
   path = dir.write("compression.aedat4", fx::kMagic + fx::ioHeader(7, -1, xml));
-  expectByteError(path, 18, "unknown compression type 7 in the IOHeader (known: 0 none, 1 LZ4, 2 LZ4 high, 3 Zstd, "
+  expectErrorAt(path, 18, "unknown compression type 7 in the IOHeader (known: 0 none, 1 LZ4, 2 LZ4 high, 3 Zstd, "
                             "4 Zstd high)");
   path = dir.write("table.aedat4", fx::kMagic + fx::ioHeader(fx::kNone, 1'000'000, xml));
   const auto size = std::filesystem::file_size(path);
-  expectByteError(path, size, "truncated: the file ends at byte " + std::to_string(size) +
+  expectErrorAt(path, size, "truncated: the file ends at byte " + std::to_string(size) +
                                   ", before the data table the IOHeader places at byte 1000000");
   path = dir.write("noevents.aedat4", fx::kMagic + fx::ioHeader(fx::kNone, -1, fx::infoXml({{2, "IMUS", "imu"}})));
-  expectByteError(path, 18, "no event stream: the IOHeader's info node lists the streams 2 IMUS, none with "
+  expectErrorAt(path, 18, "no event stream: the IOHeader's info node lists the streams 2 IMUS, none with "
                             "typeIdentifier EVTS");
   path = dir.write("xml.aedat4", fx::kMagic + fx::ioHeader(fx::kNone, -1, "<dv><node name=\"outInfo\"><attr key=\"x\""));
-  EXPECT_NE(readError(path).find("IOHeader info node: unterminated tag"), std::string::npos) << readError(path);
+  EXPECT_NE(errorOf(path).find("IOHeader info node: unterminated tag"), std::string::npos) << errorOf(path);
   path = dir.write("sizex.aedat4", fx::kMagic + fx::ioHeader(fx::kNone, -1, fx::infoXml({{0, "EVTS", "e", 70000, 5}})));
-  EXPECT_NE(readError(path).find("IOHeader info node: sizeX '70000' is not a sensor dimension in 1..32767"),
+  EXPECT_NE(errorOf(path).find("IOHeader info node: sizeX '70000' is not a sensor dimension in 1..32767"),
             std::string::npos)
-      << readError(path);
+      << errorOf(path);
 }
 
 // Offset of the first packet in files made by buildFile with kStreams.
@@ -320,40 +297,40 @@ TEST(Aedat4Reader, TruncatedAndCorruptPackets) {
   // The file ends inside the second packet's payload, and inside a packet header.
   std::string file = buildFile(fx::kNone, {{1, events}, {1, events}}, false);
   auto path = dir.write("payload.aedat4", file.substr(0, file.size() - 5));
-  expectByteError(path, second, "truncated: packet 1 (stream 1, EVTS) declares " + std::to_string(events.size()) +
+  expectErrorAt(path, second, "truncated: packet 1 (stream 1, EVTS) declares " + std::to_string(events.size()) +
                                     " bytes, only " + std::to_string(events.size() - 5) + " remain at the end of the file");
   path = dir.write("header.aedat4", file.substr(0, second + 3));
-  expectByteError(path, second, "truncated: the 3 bytes at the end of the file are not a whole packet header");
+  expectErrorAt(path, second, "truncated: the 3 bytes at the end of the file are not a whole packet header");
   // The IOHeader places the data table 4 bytes into the first packet's payload.
   path = dir.write("table.aedat4", fx::kMagic + fx::ioHeader(fx::kNone, static_cast<int64_t>(start + 12),
                                                              fx::infoXml(kStreams)) + fx::packet(1, events));
-  expectByteError(path, start, "truncated: packet 0 (stream 1, EVTS) declares " + std::to_string(events.size()) +
+  expectErrorAt(path, start, "truncated: packet 0 (stream 1, EVTS) declares " + std::to_string(events.size()) +
                                    " bytes, only 4 remain before the data table");
 
   // Packet headers: a stream the info node does not list, a negative size.
   path = dir.write("stream.aedat4", buildFile(fx::kNone, {{1, events}, {9, events}}));
-  expectByteError(path, second, "packet 1 belongs to stream 9, which the IOHeader's info node does not list "
+  expectErrorAt(path, second, "packet 1 belongs to stream 9, which the IOHeader's info node does not list "
                                 "(streams: 1 EVTS, 2 IMUS, 5 FRME, 7 TRIG");
   file = buildFile(fx::kNone, {{1, events}, {1, events}}, false);
   file.replace(second + 4, 4, fx::le32(0xFFFFFFF0u));
   path = dir.write("negative.aedat4", file);
-  expectByteError(path, second, "packet 1 (stream 1, EVTS): negative size -16");
+  expectErrorAt(path, second, "packet 1 (stream 1, EVTS): negative size -16");
 
   // Corrupt FlatBuffers: a size prefix that disagrees, a vector longer than the packet, a bad root offset.
   std::string bad = events;
   bad[0] = '\x10';
   path = dir.write("prefix.aedat4", buildFile(fx::kNone, {{1, bad}}));
-  expectByteError(path, start, "packet 0 (stream 1, EVTS): the EventPacket FlatBuffer's size prefix says 16 bytes");
+  expectErrorAt(path, start, "packet 0 (stream 1, EVTS): the EventPacket FlatBuffer's size prefix says 16 bytes");
   bad = events;
   bad.replace(28, 4, fx::le32(1000));  // the vector claims 1000 events
   path = dir.write("vector.aedat4", buildFile(fx::kLz4, {{1, bad}}));
-  expectByteError(path, start, "packet 0 (stream 1, EVTS): the EventPacket FlatBuffer fails verification");
+  expectErrorAt(path, start, "packet 0 (stream 1, EVTS): the EventPacket FlatBuffer fails verification");
   bad = fx::imuPacket(2, 5);
   bad.replace(4, 4, fx::le32(0x7FFFFFF0u));
   path = dir.write("imu.aedat4", buildFile(fx::kZstd, {{2, bad}}));
-  expectByteError(path, start, "packet 0 (stream 2, IMUS): the IMUPacket FlatBuffer fails verification");
+  expectErrorAt(path, start, "packet 0 (stream 2, IMUS): the IMUPacket FlatBuffer fails verification");
   path = dir.write("tiny.aedat4", buildFile(fx::kNone, {{1, "abc"}}));
-  expectByteError(path, start, "packet 0 (stream 1, EVTS): the packet has 3 bytes, too few for a size-prefixed "
+  expectErrorAt(path, start, "packet 0 (stream 1, EVTS): the packet has 3 bytes, too few for a size-prefixed "
                                "EventPacket FlatBuffer");
 }
 
@@ -369,15 +346,15 @@ TEST(Aedat4Reader, DecompressionErrors) {
       return f + fx::packet(1, payload);
     };
     auto path = dir.write("cut.aedat4", file(frame.substr(0, frame.size() - 3)));
-    EXPECT_NE(readError(path).find(": byte " + std::to_string(start) + ": packet 0 (stream 1, EVTS): " + name + " frame: "),
+    EXPECT_NE(errorOf(path).find(": byte " + std::to_string(start) + ": packet 0 (stream 1, EVTS): " + name + " frame: "),
               std::string::npos)
-        << readError(path);
+        << errorOf(path);
     path = dir.write("magic.aedat4", file("XXXX" + frame.substr(4)));
-    EXPECT_NE(readError(path).find(": byte " + std::to_string(start) + ": packet 0 (stream 1, EVTS): " + name + " frame: "),
+    EXPECT_NE(errorOf(path).find(": byte " + std::to_string(start) + ": packet 0 (stream 1, EVTS): " + name + " frame: "),
               std::string::npos)
-        << readError(path);
+        << errorOf(path);
     path = dir.write("trailing.aedat4", file(frame + "xyz"));
-    expectByteError(path, start, "packet 0 (stream 1, EVTS): " + name + " frame: 3 bytes follow the end of the frame");
+    expectErrorAt(path, start, "packet 0 (stream 1, EVTS): " + name + " frame: 3 bytes follow the end of the frame");
   }
 }
 
@@ -387,18 +364,18 @@ TEST(Aedat4Reader, UnsortedTimesAndPixelsOutsideTheSensor) {
   const std::string first = fx::eventPacket({{1000, 1, 2, 1}});
   const uint64_t second = start + 8 + fx::compress(first, fx::kLz4).size();
   auto path = dir.write("time.aedat4", buildFile(fx::kLz4, {{1, first}, {1, fx::eventPacket({{1000, 1, 1, 1}, {900, 1, 1, 1}})}}));
-  expectByteError(path, second, "packet 1 (stream 1, EVTS), event 1: time goes backwards by 100000 ns");
+  expectErrorAt(path, second, "packet 1 (stream 1, EVTS), event 1: time goes backwards by 100000 ns");
   ReaderOptions tolerant;
   tolerant.max_time_reversal_ns = 200'000;
   EXPECT_EQ(readAllEvents(path, tolerant).size(), 3u);
   path = dir.write("x.aedat4", buildFile(fx::kLz4, {{1, fx::eventPacket({{1000, 64, 3, 1}})}}));
-  expectByteError(path, start, "packet 0 (stream 1, EVTS), event 0: pixel (64, 3) is outside the 64x32 sensor");
+  expectErrorAt(path, start, "packet 0 (stream 1, EVTS), event 0: pixel (64, 3) is outside the 64x32 sensor");
   path = dir.write("y.aedat4", buildFile(fx::kNone, {{1, fx::eventPacket({{1000, 3, -1, 1}})}}));
-  expectByteError(path, start, "packet 0 (stream 1, EVTS), event 0: pixel (3, -1) is outside the 64x32 sensor");
+  expectErrorAt(path, start, "packet 0 (stream 1, EVTS), event 0: pixel (3, -1) is outside the 64x32 sensor");
   path = dir.write("p.aedat4", buildFile(fx::kNone, {{1, fx::eventPacket({{1000, 3, 1, 2}})}}));
-  expectByteError(path, start, "packet 0 (stream 1, EVTS), event 0: polarity 2 is not one of 0, 1, -1");
+  expectErrorAt(path, start, "packet 0 (stream 1, EVTS), event 0: polarity 2 is not one of 0, 1, -1");
   path = dir.write("t.aedat4", buildFile(fx::kNone, {{1, fx::eventPacket({{INT64_MAX / 100, 3, 1, 1}})}}));
-  expectByteError(path, start, "packet 0 (stream 1, EVTS), event 0: time " + std::to_string(INT64_MAX / 100) +
+  expectErrorAt(path, start, "packet 0 (stream 1, EVTS), event 0: time " + std::to_string(INT64_MAX / 100) +
                                    " µs is out of range");
 }
 
