@@ -240,6 +240,27 @@ TEST(Aedat4Reader, AutoDetectionByTheVersionLine) {
                               "read (only AEDAT 4.0, '#!AER-DAT4.0')");
 }
 
+// Some writers align a FlatBuffer's 8-byte fields relative to the buffer after the size prefix, not to the
+// prefix as DV does (the trimmed DAVIS346 sample is one). Four bytes inserted after the IOHeader's file
+// identifier give that layout: the int64 dataTablePosition is then 8-byte aligned only from byte 4.
+TEST(Aedat4Reader, ReadsFlatBuffersAlignedAfterTheSizePrefix) {
+  TempDir dir;
+  const std::string body = fx::packet(1, fx::eventPacket({{7, 1, 2, 1}}));
+  const std::string xml = fx::infoXml(kStreams);
+  std::string header = fx::ioHeader(fx::kNone, -1, xml);
+  const auto table = static_cast<int64_t>(fx::kMagic.size() + header.size() + 4 + body.size());
+  header = fx::ioHeader(fx::kNone, table, xml);
+  header.insert(12, 4, '\0');
+  header.replace(0, 4, fx::le32(static_cast<uint32_t>(header.size() - 4)));
+  header.replace(4, 4, fx::le32(24));  // the root offset, 4 bytes further
+  const auto path = dir.write("shifted.aedat4", fx::kMagic + header + body + "TABLE");
+  const std::vector<Event> events = readAllEvents(path);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].t_ns, 7000);
+  EXPECT_EQ(events[0].x, 1);
+  EXPECT_EQ(events[0].y, 2);
+}
+
 // ---------------------------------------------------------------------------------------------------
 // Bad input: each names the file and the byte offset.
 
