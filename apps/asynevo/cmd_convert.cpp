@@ -64,7 +64,7 @@ void addConvertCommand(CLI::App& app) {
   static ConvertOptions options;  // CLI11 binds options to stable addresses; one parse per process
   auto* cmd = app.add_subcommand("convert", "Convert an event file to AsynEVO's fast binary format (.aevt)");
   cmd->add_option("--dataset", options.dataset, "ECD-style folder or event file")->required();
-  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat)");
+  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4)");
   cmd->add_option("--config", options.config, "configuration YAML (sensor size, time tolerance)");
   addSensorOption(cmd, options.sensor);
   cmd->add_option("--out", options.out, "output .aevt file (in a dataset folder: events.aevt)")->required();

@@ -29,6 +29,26 @@ struct InfoOptions {
   std::string sensor;
 };
 
+// The streams of a container file (AEDAT 4.0), one line each: id, type, name, size, packets, elements.
+void printContainerStreams(const std::vector<ContainerStream>& streams) {
+  const char* label = "streams       ";
+  for (const ContainerStream& s : streams) {
+    std::string line = fmt::format("{}id {} {}", label, s.id, s.type.empty() ? "(no type)" : s.type);
+    if (!s.name.empty()) line += " '" + s.name + "'";
+    if (s.width > 0) line += fmt::format(" {}x{}", s.width, s.height);
+    line += fmt::format(": {} packets", s.packets);
+    if (s.delivered) {
+      line += fmt::format(", {} events (read)", s.elements);
+    } else if (s.type == "IMUS" || s.type == "TRIG") {
+      line += fmt::format(", {} {} (counted)", s.elements, s.type == "IMUS" ? "samples" : "triggers");
+    } else {
+      line += s.type == "EVTS" ? " (skipped: only the first event stream is read)" : " (skipped)";
+    }
+    fmt::print("{}\n", line);
+    label = "              ";
+  }
+}
+
 void runInfo(const InfoOptions& options) {
   const Config config = options.config.empty() ? Config() : loadConfig(options.config);
   const DatasetFiles files = resolveDataset(options.dataset, options.format);
@@ -66,6 +86,9 @@ void runInfo(const InfoOptions& options) {
   if (stats.clamped_times > 0) fmt::print("clamped       {} events whose time went slightly backwards\n", stats.clamped_times);
   if (reader->stats().trigger_events > 0)
     fmt::print("triggers      {} external-trigger events (counted, not used)\n", reader->stats().trigger_events);
+  if (reader->stats().imu_samples > 0)
+    fmt::print("imu           {} samples (counted, not used)\n", reader->stats().imu_samples);
+  printContainerStreams(reader->stats().streams);
   if (reader->stats().ignored_words > 0) {
     fmt::print("skipped       {} encoded words (vendor extension words, events before the first time base)\n",
                reader->stats().ignored_words);
@@ -100,7 +123,7 @@ void addInfoCommand(CLI::App& app) {
   static InfoOptions options;  // CLI11 binds options to stable addresses; one parse per process
   auto* cmd = app.add_subcommand("info", "Describe a dataset: format, sensor, event count, time span, rates");
   cmd->add_option("--dataset", options.dataset, "ECD-style folder or event file")->required();
-  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat)");
+  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4)");
   cmd->add_option("--config", options.config, "configuration YAML (sensor size, time tolerance)");
   addSensorOption(cmd, options.sensor);
   cmd->callback([] { runInfo(options); });

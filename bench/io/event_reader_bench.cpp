@@ -12,6 +12,7 @@
 #include "asynevo/core/time.hpp"
 #include "asynevo/io/event_file.hpp"
 #include "asynevo/io/event_reader.hpp"
+#include "read_all_bench.hpp"
 
 namespace asynevo {
 namespace {
@@ -50,23 +51,8 @@ const std::string& aevtFile() {
   return path;
 }
 
-void readAll(benchmark::State& state, const std::string& path) {
-  EventPacket packet;
-  int64_t total = 0;
-  for (auto _ : state) {
-    auto reader = openEventReader(path);
-    int64_t n = 0;
-    while (reader->read(packet)) n += static_cast<int64_t>(packet.size());
-    benchmark::DoNotOptimize(n);
-    total += n;
-  }
-  state.SetItemsProcessed(total);
-  state.counters["Mevents/s"] =
-      benchmark::Counter(static_cast<double>(total) * 1e-6, benchmark::Counter::kIsRate);
-}
-
-void BM_EcdTextRead10M(benchmark::State& state) { readAll(state, ecdFile()); }
-void BM_AevtRead10M(benchmark::State& state) { readAll(state, aevtFile()); }
+void BM_EcdTextRead10M(benchmark::State& state) { benchmarkReadAll(state, ecdFile(), false); }
+void BM_AevtRead10M(benchmark::State& state) { benchmarkReadAll(state, aevtFile(), false); }
 
 void BM_ParseSecondsToNs(benchmark::State& state) {
   const std::string_view text = "13.582596001";

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "asynevo/io/event_reader.hpp"
+#include "read_all_bench.hpp"
 
 namespace asynevo {
 namespace {
@@ -126,28 +127,9 @@ const std::string& datFile() {
   return path;
 }
 
-void readAll(benchmark::State& state, const std::string& path) {
-  EventPacket packet;
-  int64_t total = 0;
-  {  // warm the page cache
-    auto reader = openEventReader(path);
-    while (reader->read(packet)) {
-    }
-  }
-  for (auto _ : state) {
-    auto reader = openEventReader(path);
-    int64_t n = 0;
-    while (reader->read(packet)) n += static_cast<int64_t>(packet.size());
-    benchmark::DoNotOptimize(n);
-    total += n;
-  }
-  state.SetItemsProcessed(total);
-  state.counters["Mevents/s"] = benchmark::Counter(static_cast<double>(total) * 1e-6, benchmark::Counter::kIsRate);
-}
-
-void BM_PropheseeEvt3Read10M(benchmark::State& state) { readAll(state, evt3File()); }
-void BM_PropheseeEvt2Read10M(benchmark::State& state) { readAll(state, evt2File()); }
-void BM_PropheseeDatRead10M(benchmark::State& state) { readAll(state, datFile()); }
+void BM_PropheseeEvt3Read10M(benchmark::State& state) { benchmarkReadAll(state, evt3File(), true); }
+void BM_PropheseeEvt2Read10M(benchmark::State& state) { benchmarkReadAll(state, evt2File(), true); }
+void BM_PropheseeDatRead10M(benchmark::State& state) { benchmarkReadAll(state, datFile(), true); }
 
 BENCHMARK(BM_PropheseeEvt3Read10M)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_PropheseeEvt2Read10M)->Unit(benchmark::kMillisecond)->Iterations(3);

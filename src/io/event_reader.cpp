@@ -7,6 +7,8 @@
 #include "asynevo/core/error.hpp"
 #include "asynevo/io/event_file.hpp"
 #include "asynevo/io/file_handle.hpp"
+#include "aedat4_header.hpp"
+#include "aedat4_reader.hpp"
 #include "ecd_text_reader.hpp"
 #include "event_file_reader.hpp"
 #include "mvsec_reader.hpp"
@@ -15,6 +17,8 @@
 namespace asynevo {
 
 namespace {
+
+namespace aedat4 = io_detail::aedat4;
 
 constexpr unsigned char kHdf5Signature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
 
@@ -26,6 +30,14 @@ std::string detectFormat(const std::string& path) {
   if (n == 0) throw InputError(path, "the event file is empty");
   if (n >= 8 && std::memcmp(head, kHdf5Signature, 8) == 0) return "mvsec";
   if (n >= 8 && std::memcmp(head, kEventFileMagic, 8) == 0) return "aevt";
+  if (n >= aedat4::kMagicBytes && std::memcmp(head, aedat4::kMagic, aedat4::kMagicBytes) == 0) return "aedat4";
+  const std::size_t prefix = sizeof(aedat4::kVersionPrefix) - 1;
+  if (n >= prefix && std::memcmp(head, aedat4::kVersionPrefix, prefix) == 0) {  // AEDAT 2.0 or 3.x
+    const auto line = std::string(reinterpret_cast<const char*>(head), n);
+    throw InputError::atByte(path, 0,
+                             "the version line '" + line.substr(0, line.find_first_of("\r\n")) +
+                                 "' names an AEDAT version AsynEVO does not read (only AEDAT 4.0, '#!AER-DAT4.0')");
+  }
   if (n >= 2 && head[0] == '%' && head[1] == ' ') {  // a Prophesee RAW or DAT header ("% keyword value" lines)
     const io_detail::PropheseeHeader header = io_detail::readPropheseeHeader(file.get(), path);
     const std::string format = io_detail::propheseeFormatFromHeader(header, path);
@@ -39,7 +51,7 @@ std::string detectFormat(const std::string& path) {
   if (std::memchr(head, '\0', n) != nullptr) {
     throw InputError(path,
                      "unknown binary format (supported: ECD text, MVSEC HDF5, AsynEVO .aevt, Prophesee RAW EVT 3.0 "
-                     "and EVT 2.0, Prophesee DAT; a RAW or DAT file without its '%' header needs --format evt3, "
+                     "and EVT 2.0, Prophesee DAT, AEDAT 4.0; a RAW or DAT file without its '%' header needs --format evt3, "
                      "evt2 or dat)");
   }
   return "ecd";
@@ -56,8 +68,9 @@ std::unique_ptr<EventReader> openEventReader(const std::string& path, const Read
   if (format == "evt3") return std::make_unique<io_detail::Evt3Reader>(path, options);
   if (format == "evt2") return std::make_unique<io_detail::Evt2Reader>(path, options);
   if (format == "dat") return std::make_unique<io_detail::DatReader>(path, options);
-  throw InputError(path,
-                   "unknown event format '" + format + "' (supported: auto, ecd, mvsec, aevt, evt3, evt2, dat)");
+  if (format == "aedat4") return std::make_unique<io_detail::Aedat4Reader>(path, options);
+  throw InputError(path, "unknown event format '" + format +
+                             "' (supported: auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4)");
 }
 
 std::vector<Event> readAllEvents(const std::string& path, const ReaderOptions& options) {

@@ -8,8 +8,10 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <tuple>
 
 #include "asynevo/core/error.hpp"
+#include "event_extent.hpp"
 
 namespace asynevo::io_detail {
 
@@ -327,17 +329,7 @@ void PropheseeReader::startData(uint64_t data_offset, int limit) {
       throw InputError(info_.path, "cannot seek to the event data");
     chunk_offset_ = data_offset_;
     resetDecoder();
-    EventPacket packet;
-    int max_x = 0;
-    int max_y = 0;
-    while (read(packet)) {
-      for (const Event& e : packet.events) {
-        max_x = std::max<int>(max_x, e.x);
-        max_y = std::max<int>(max_y, e.y);
-      }
-    }
-    width = max_x + 1;
-    height = max_y + 1;
+    std::tie(width, height) = extentOfEvents(*this);
   }
   info_.width = width;
   info_.height = height;

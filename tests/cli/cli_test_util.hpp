@@ -1,10 +1,12 @@
 #pragma once
 // Runs the asynevo binary as a user would and captures what it prints and its exit code.
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <array>
 #include <cstdio>
+#include <fstream>
 #include <string>
 
 namespace asynevo::testing {
@@ -27,6 +29,17 @@ inline CommandResult runAsynevo(const std::string& arguments, const std::string&
   const int status = pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+/// Writes `content` to `path`, runs `asynevo info` on it and expects exit code 1 and the message
+/// "asynevo: error: <path>: <message>".
+inline void expectInfoFails(const std::string& path, const std::string& content, const std::string& message) {
+  std::ofstream(path, std::ios::binary) << content;
+  const CommandResult result = runAsynevo("info --dataset " + path);
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_NE(result.output.find("asynevo: error: " + path + ": " + message), std::string::npos)
+      << "expected '" << message << "' in:\n"
+      << result.output;
 }
 
 }  // namespace asynevo::testing

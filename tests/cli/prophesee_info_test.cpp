@@ -88,12 +88,7 @@ TEST(InfoCommand, BadPropheseeInputExitsWithOneAndNamesTheByte) {
   };
   for (const Case& c : cases) {
     TempDir dir;
-    const auto path = dir.write("rec.raw", c.content);
-    const auto result = runAsynevo("info --dataset " + path);
-    EXPECT_EQ(result.exit_code, 1) << result.output;
-    EXPECT_NE(result.output.find("asynevo: error: " + path + ": " + c.message), std::string::npos)
-        << "expected '" << c.message << "' in:\n"
-        << result.output;
+    testing::expectInfoFails(dir.file("rec.raw"), c.content, c.message);
   }
 }
 

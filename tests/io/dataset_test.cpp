@@ -24,7 +24,7 @@ std::string errorOf(const std::string& path, const std::string& format = "auto")
 
 TEST(Dataset, FindsEveryKnownEventFileName) {
   for (const char* name : {"events.txt", "events.aevt", "events.raw", "recording_2024-01-01_10-00-00.raw",
-                           "events.dat", "moorea_td.dat", "rec_cd.dat", "indoor_flying1_data.hdf5"}) {
+                           "events.dat", "moorea_td.dat", "rec_cd.dat", "dvSave-2023_01_01.aedat4", "indoor_flying1_data.hdf5"}) {
     TempDir dir;
     dir.write(name, "x");
     dir.write("calib.txt", "1 1 1 1 0 0 0 0 0\n");

@@ -25,6 +25,9 @@
 namespace asynevo {
 namespace {
 
+using testing::errorOf;
+using testing::ev;
+using testing::expectErrorAt;
 using testing::TempDir;
 
 // ---------------------------------------------------------------------------------------------------
@@ -66,36 +69,10 @@ const std::string kEvt2Header = "% date 2024-01-01 00:00:00\n% evt 2.0\n% width 
 const std::string kDatHeader = "% Data file containing CD events\n% Date 2020-09-14 14:18:29\n% Version 2\n% Width 640\n% Height 480\n";
 const std::string kDatCdTypeSize = std::string("\x0C\x08", 2);
 
-Event ev(int64_t t_us, int x, int y, int p) {
-  Event e;
-  e.t_ns = t_us * 1000;
-  e.x = static_cast<uint16_t>(x);
-  e.y = static_cast<uint16_t>(y);
-  e.polarity = static_cast<int8_t>(p);
-  return e;
-}
-
 ReaderOptions withPacketSize(int n) {
   ReaderOptions options;
   options.packet_size = n;
   return options;
-}
-
-// The InputError a full read throws, or "" when there is none.
-std::string errorOf(const std::string& path, const ReaderOptions& options = {}) {
-  try {
-    readAllEvents(path, options);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-// Expects the message "<path>: byte <offset>: <text>..." (the text may continue).
-void expectErrorAt(const std::string& path, uint64_t offset, const std::string& text, const ReaderOptions& options = {}) {
-  const std::string message = errorOf(path, options);
-  const std::string expected = path + ": byte " + std::to_string(offset) + ": " + text;
-  EXPECT_EQ(message.substr(0, expected.size()), expected) << "full message: " << message;
 }
 
 // ---------------------------------------------------------------------------------------------------

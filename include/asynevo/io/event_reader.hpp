@@ -3,11 +3,12 @@
 // multi-gigabyte recording is processed in constant memory. Every event is checked (finite time,
 // pixel inside the sensor, valid polarity, time not going backwards beyond a tolerance); a violation
 // throws InputError naming the file and the line (text), record (fixed-size binary records) or byte
-// offset (Prophesee RAW and DAT).
+// offset (Prophesee RAW and DAT; AEDAT 4.0: the offset of the packet, with the packet and event index).
 
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "asynevo/core/event.hpp"
 
@@ -15,7 +16,7 @@ namespace asynevo {
 
 struct ReaderOptions {
   /// "auto", "ecd", "mvsec", "aevt", "evt3" (Prophesee RAW EVT 3.0), "evt2" (Prophesee RAW EVT 2.0),
-  /// "dat" (Prophesee DAT)
+  /// "dat" (Prophesee DAT), "aedat4" (iniVation AEDAT 4.0)
   std::string format = "auto";
   int width = 0;                      ///< sensor columns; 0 = the format's own or default (ECD: 240)
   int height = 0;                     ///< sensor rows; 0 = the format's own or default (ECD: 180)
@@ -29,11 +30,23 @@ struct ReaderOptions {
 /// What a reader knows about its stream without reading it all.
 struct StreamInfo {
   std::string path;     ///< the event file
-  std::string format;   ///< "ecd", "mvsec", "aevt", "evt3", "evt2", "dat"
+  std::string format;   ///< "ecd", "mvsec", "aevt", "evt3", "evt2", "dat", "aedat4"
   int width = 0;
   int height = 0;
   std::string size_origin;  ///< where width and height came from: ReaderOptions::size_origin, or the format's
                             ///< ("the ECD text default", "the .aevt header", ...)
+};
+
+/// One stream of a container file that holds several (AEDAT 4.0: events, frames, IMU, triggers).
+struct ContainerStream {
+  int id = 0;
+  std::string type;         ///< the format's type name: "EVTS", "FRME", "IMUS", "TRIG", ...
+  std::string name;         ///< the recorder's name for it ("events", "imu", ...); may be empty
+  int width = 0;            ///< its geometry where the file gives one, else 0
+  int height = 0;
+  uint64_t packets = 0;     ///< packets of this stream seen so far
+  uint64_t elements = 0;    ///< events, IMU samples or triggers in them (0 for streams not decoded)
+  bool delivered = false;   ///< the stream the reader delivers events from
 };
 
 /// Counters a reader keeps while streaming.
@@ -44,6 +57,8 @@ struct ReaderStats {
   uint64_t trigger_events = 0;   ///< external-trigger events in the stream (counted, not delivered)
   uint64_t ignored_words = 0;    ///< encoded words skipped: vendor extensions (Prophesee OTHERS/CONTINUED) and
                                  ///< events before the stream's first time base or row
+  uint64_t imu_samples = 0;      ///< IMU samples in the file (counted, not delivered; AEDAT 4.0)
+  std::vector<ContainerStream> streams;  ///< the streams of a container file (AEDAT 4.0); empty otherwise
 };
 
 class EventReader {
