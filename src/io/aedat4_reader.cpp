@@ -72,23 +72,29 @@ Aedat4Reader::Aedat4Reader(const std::string& path, const ReaderOptions& options
   }
   if (stated && configured && (options_.width != events->width || options_.height != events->height)) {
     throw InputError::atByte(path, aedat4::kMagicBytes + 4,
-                             fmt::format("sensor size {}x{} in the file (event stream {}) differs from the "
-                                         "configured {}x{}",
+                             fmt::format("sensor size {}x{} in the file (event stream {}) differs from {}x{} set "
+                                         "by {} (the file's own size is kept only when they agree: correct or "
+                                         "drop that setting)",
                                          events->width, events->height, event_stream_, options_.width,
-                                         options_.height));
+                                         options_.height, options_.size_origin));
   }
+  bool settable = true;  // whether the out-of-sensor error says how to set another size
   if (stated) {
     info_.width = events->width;
     info_.height = events->height;
+    info_.size_origin = "the file's stream description";
+    settable = false;
   } else if (configured) {
     info_.width = options_.width;
     info_.height = options_.height;
+    info_.size_origin = options_.size_origin;
   } else {  // one pass over the events to find their bounding box (still one packet at a time)
     checker_ = EventChecker(kCoordinateLimit, kCoordinateLimit, options_.max_time_reversal_ns);
     rewind();
     std::tie(info_.width, info_.height) = extentOfEvents(*this);
+    info_.size_origin = "the events' extent, the file states no size";
   }
-  checker_ = EventChecker(info_.width, info_.height, options_.max_time_reversal_ns);
+  checker_ = EventChecker(info_.width, info_.height, options_.max_time_reversal_ns, info_.size_origin, settable);
   rewind();
 }
 

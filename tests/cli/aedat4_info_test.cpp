@@ -24,7 +24,7 @@ TEST(InfoCommand, DescribesAnAedat4RecordingAndItsStreams) {
   }
   const auto result = runAsynevo("info --dataset " + path);
   EXPECT_EQ(result.exit_code, 0) << result.output;
-  for (const char* line : {"format        aedat4\n", "sensor        320 x 240\n", "events        111954\n",
+  for (const char* line : {"format        aedat4\n", "sensor        320 x 240 (from the file's stream description)\n", "events        111954\n",
                            "time span     1605537493.718345000 .. 1605537494.308262000 s",
                            "imu           475 samples (counted, not used)\n",
                            "streams       id 0 EVTS 'events' 320x240: 59 packets, 111954 events (read)\n",

@@ -217,7 +217,7 @@ TEST(Aedat4Reader, SensorSizeFromTheFileElseConfiguredElseTheEvents) {
   EXPECT_EQ(readAllEvents(path, options).size(), 5u);  // the same size as the file's: accepted
   options.width = 640;
   options.height = 480;
-  expectErrorAt(path, 18, "sensor size 64x32 in the file (event stream 1) differs from the configured 640x480",
+  expectErrorAt(path, 18, "sensor size 64x32 in the file (event stream 1) differs from 640x480 set by the reader options",
                   options);
 
   const std::vector<fx::StreamSpec> unsized = {{0, "EVTS", "events"}};
