@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <string_view>
 #include <cmath>
 #include <limits>
 
@@ -201,9 +202,13 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   triangulateTracks();
   int landmarks = 0;
   for (const auto& [id, track] : tracks_) landmarks += track.triangulated;
-  if (landmarks < config.init_min_inliers / 2) {
-    stats_.init_last_failure = fmt::format("{} pose found ({} inliers) but only {} landmarks triangulated",
-                                           two_view.method, two_view.inliers, landmarks);
+  // A multi-view start's features need not span the window, so its fit can pass with few of them able
+  // to make a landmark; it must triangulate as many landmarks as the two-view start needs inliers.
+  const int min_landmarks = std::string_view(two_view.method) == "multi-view" ? config.init_min_inliers
+                                                                               : config.init_min_inliers / 2;
+  if (landmarks < min_landmarks) {
+    stats_.init_last_failure = fmt::format("{} pose found ({} inliers) but only {} landmarks triangulated (need {})",
+                                           two_view.method, two_view.inliers, landmarks, min_landmarks);
     ++stats_.init_rejections[static_cast<int>(InitRejection::Landmarks)];
     trajectory_ = Trajectory();
     anchors_.clear();

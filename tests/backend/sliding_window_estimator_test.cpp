@@ -92,6 +92,7 @@ TEST(SlidingWindowEstimator, RelaxesTheInitializationCountsAfterAWait) {
   options.config.init_min_features = 240;
   options.config.init_min_inliers = 200;
   options.config.init_relax_after_ms = 500;
+  options.config.init_method = "two-view";      // the two-view counts are what is relaxed here
   options.config.init_relaxed_fraction = 1.0;  // never relax
   const RunResult strict = runEstimator(measurements, duration, options);
   EXPECT_FALSE(strict.stats.initialized);
@@ -242,12 +243,12 @@ TEST(SlidingWindowEstimator, RejectsAnUnknownForcedMarginalizationMode) {
 }
 
 TEST(SlidingWindowEstimator, MultiViewStartUsesShortTracksThatTheTwoViewStartWaitsFor) {
-  // Features that live 150 ms: too few are seen at both ends of a span with enough parallax, so the
+  // Features that live 180 ms: too few are seen at both ends of a span with enough parallax, so the
   // two-view start never comes in 2.5 s; with "both", one twist fitted to all of them starts as soon as
   // the two-view start has failed for init_relax_after_ms (0.5 s), and not before.
   const SyntheticScene scene(150);
   const double duration = 2.5;
-  const auto measurements = scene.measurements(duration, 0.01, 0.15, 0.3);
+  const auto measurements = scene.measurements(duration, 0.01, 0.18, 0.3);
   EstimatorOptions options = defaultOptions();
   options.config.init_method = "two-view";
   const RunResult two_view = runEstimator(measurements, duration, options);
@@ -265,9 +266,9 @@ TEST(SlidingWindowEstimator, MultiViewStartUsesShortTracksThatTheTwoViewStartWai
   EXPECT_GE(both.stats.initialized_at_ns, measurements.front().t_ns + 500'000'000);
   EXPECT_LE(both.stats.initialized_at_ns, measurements.front().t_ns + 600'000'000);
   EXPECT_GE(both.stats.init_views.inliers, options.config.init_min_inliers);
-  // Short tracks make a weak map: 4.4 % of the path (the 400 ms tracks of the first test give < 1.5 %).
+  // Short tracks make a weak map: 3.5 % of the path (the 400 ms tracks of the first test give < 1.5 %).
   const Accuracy a = accuracy(both.knots);
-  EXPECT_LT(a.ate_rmse, 0.06 * a.path_length) << "ATE " << a.ate_rmse << " over a path of " << a.path_length;
+  EXPECT_LT(a.ate_rmse, 0.05 * a.path_length) << "ATE " << a.ate_rmse << " over a path of " << a.path_length;
 }
 
 TEST(SlidingWindowEstimator, RejectsAnUnknownInitializationMethod) {

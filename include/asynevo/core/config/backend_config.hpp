@@ -67,7 +67,7 @@ struct BackendConfig {
   /// Which start is tried: "two-view" (two times, five-point RANSAC), "multi-view" (one constant twist
   /// fitted to every track of the window) or "both" (two-view first; once the counts are relaxed,
   /// multi-view when it fails).
-  std::string init_method = "two-view";
+  std::string init_method = "both";
 
   // --- tracking loss (docs/method/tracking_loss.md): the segment ends, the estimator starts again ---
   double loss_max_event_gap_ms = 250.0;  ///< a gap in the events longer than this ends the segment (0 = off)
