@@ -1,6 +1,7 @@
 // simulate → run → eval on a short sequence, and offline determinism (DESIGN.md §7).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -144,6 +145,52 @@ TEST(RunEndToEnd, AGapInTheEventsGivesTwoSegmentsThatEvalScoresApart) {
   const double coverage = jsonNumber(json, "coverage", "coverage");
   EXPECT_GT(coverage, 0.4) << json;
   EXPECT_LT(coverage, 0.9) << json;
+}
+
+// Overload (issue 23): replayed five times faster than real time, the frontend and the backend fall
+// behind. The run still ends normally with a valid trajectory; the backend lag and how far the pacing
+// fell behind are reported; the queue stays within its capacity; no event is dropped.
+TEST(RunEndToEnd, FiveTimesFasterThanRealTimeEndsNormallyAndReportsTheLag) {
+  std::string error;
+  const std::string data = testing::simulatedSequence(kScene, kMotion, kDuration, error);
+  ASSERT_FALSE(data.empty()) << error;
+  const TempDir dir;
+  const std::string out = dir.file("run");
+  const auto run = runAsynevo("run --dataset " + data + " --realtime --speed 5 --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("backend lag"), std::string::npos) << run.output;
+  const std::string stats = readFile(out + "/stats.json");
+  const double capacity = jsonNumber(stats, "pipeline", "queue_capacity_chunks");
+  const double high_water = jsonNumber(stats, "pipeline", "queue_high_water_chunks");
+  ASSERT_GT(capacity, 0) << stats;
+  EXPECT_LE(high_water, capacity);
+  EXPECT_GE(jsonNumber(stats, "pipeline", "backend_lag_max_s"), 0.0);
+  EXPECT_GE(jsonNumber(stats, "pipeline", "pacing_max_behind_s"), 0.0);
+  // Every event was processed: the summary's count equals the offline run's.
+  const auto offline = runAsynevo("run --dataset " + data + " --out " + dir.file("offline"));
+  ASSERT_EQ(offline.exit_code, 0) << offline.output;
+  const std::regex events_line("events +([0-9]+) over");
+  std::smatch a, b;
+  ASSERT_TRUE(std::regex_search(run.output, a, events_line)) << run.output;
+  ASSERT_TRUE(std::regex_search(offline.output, b, events_line)) << offline.output;
+  EXPECT_EQ(a[1].str(), b[1].str());
+  // A valid trajectory: finite, time-ordered knots that cover the sequence after the start.
+  std::istringstream in(readFile(out + "/stamped_traj_estimate.txt"));
+  std::string line;
+  double previous = -1;
+  int knots = 0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    std::vector<double> v;
+    for (double x; fields >> x;) v.push_back(x);
+    ASSERT_EQ(v.size(), 8u) << line;
+    for (const double x : v) ASSERT_TRUE(std::isfinite(x)) << line;
+    EXPECT_GT(v[0], previous) << line;
+    previous = v[0];
+    ++knots;
+  }
+  EXPECT_GT(knots, 40);
 }
 
 }  // namespace
