@@ -95,7 +95,7 @@ TEST(InitializeMultiView, FollowsAMotionThatIsNotAConstantTwist) {
 }
 
 TEST(InitializeMultiView, WaitsOnAPureRotation) {
-  const PoseAt pose = [](double t) { return lie::SE3(lie::so3::exp(Eigen::Vector3d(0.05, 0.6, 0.0) * t), {}); };
+  const PoseAt pose = [](double t) { return lie::SE3(lie::so3::exp(Eigen::Vector3d(0.05, 0.6, 0.0) * t), Eigen::Vector3d::Zero()); };
   const InitResult r = initializeMultiView(tracksOf(pose, 60, 0.3, 0.3), kT0, kT1, kFocal, config());
   EXPECT_FALSE(r.ok);
   EXPECT_EQ(r.rejection, InitRejection::Parallax) << r.failure;
