@@ -102,7 +102,7 @@ class TrackFileSink final : public frontend::MeasurementSink {
 };
 
 void runTrack(const TrackOptions& options) {
-  const Config config = options.config.empty() ? Config() : loadConfig(options.config);
+  Config config = options.config.empty() ? Config() : loadConfig(options.config);
   const DatasetFiles files = resolveDataset(options.dataset, options.format);
   // The ground truth first: a dataset that cannot be evaluated fails before the (long) run.
   std::optional<sim::FeatureGroundTruth> ground_truth;
@@ -118,6 +118,9 @@ void runTrack(const TrackOptions& options) {
   for (const std::string& note : notes) fmt::print("note: {}\n", note);
   auto reader = openEventReader(files.events, reader_options);
   const int width = reader->info().width, height = reader->info().height;
+  config.sensor.width = width;
+  config.sensor.height = height;
+  config.validateForSensor();
 
   // The undistortion only affects the normalized coordinates, which tracks.txt does not hold; use the
   // calibration when there is one so the frontend runs exactly as in 'asynevo run'.

@@ -93,6 +93,7 @@ RunSummary runDataset(const RunOptions& options,
   config.sensor.width = summary.width;
   config.sensor.height = summary.height;
   config.validate();
+  config.validateForSensor();
   summary.config = config;
 
   const CameraModel camera = readCalibration(calib, summary.width, summary.height);

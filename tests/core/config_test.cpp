@@ -95,6 +95,34 @@ TEST(Config, OutOfRangeIsAConfigError) {
   EXPECT_THROW(applyConfigYaml("input:\n  packet_size: -5\n", "x.yaml", config), ConfigError);
 }
 
+TEST(Config, AFeatureBudgetLargerThanTheSensorHoldsIsRejectedWithItsKeys) {
+  Config config;  // 240x180, border 16 px, features 15 px apart: 208 x 148 px hold 158 hexagonally
+  config.validateForSensor();
+  config.frontend.max_features = 158;
+  config.validateForSensor();
+  config.frontend.max_features = 400;
+  try {
+    config.validateForSensor();
+    FAIL() << "a budget of 400 features on 240x180 was accepted";
+  } catch (const ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("frontend.max_features = 400"), std::string::npos) << what;
+    EXPECT_NE(what.find("158 features a 240x180 sensor holds"), std::string::npos) << what;
+    EXPECT_NE(what.find("frontend.min_distance_px"), std::string::npos) << what;
+  }
+  // The same budget fits a 1280x720 sensor, and with no minimum distance there is no bound.
+  config.sensor.width = 1280;
+  config.sensor.height = 720;
+  config.validateForSensor();
+  config.sensor.width = 240;
+  config.sensor.height = 180;
+  config.frontend.min_distance_px = 0;
+  config.validateForSensor();
+  // A border that leaves no image is named.
+  config.frontend.border_margin_px = 90;
+  EXPECT_THROW(config.validateForSensor(), ConfigError);
+}
+
 TEST(Config, MissingFileIsAnInputError) {
   EXPECT_THROW(loadConfig("/nonexistent/asynevo.yaml"), InputError);
 }

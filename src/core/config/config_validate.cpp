@@ -2,6 +2,8 @@
 // key, the value and the allowed range.
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include "asynevo/core/config/config.hpp"
 #include "asynevo/core/error.hpp"
 
@@ -121,6 +123,26 @@ void Config::validate() const {
   input.validate();
   frontend.validate();
   backend.validate();
+}
+
+void Config::validateForSensor() const {
+  // The feature budget must fit the sensor: features at least min_distance_px apart, inside the border
+  // margin, pack at most hexagonally, one per √3/2 · d² of image (Fejes Tóth's circle-packing density).
+  const double inner_w = sensor.width - 2.0 * frontend.border_margin_px;
+  const double inner_h = sensor.height - 2.0 * frontend.border_margin_px;
+  if (inner_w <= 0 || inner_h <= 0)
+    throw ConfigError(fmt::format("configuration value frontend.border_margin_px = {} leaves no image inside a {}x{} "
+                                  "sensor",
+                                  frontend.border_margin_px, sensor.width, sensor.height));
+  if (frontend.min_distance_px > 0) {
+    const double d = frontend.min_distance_px;
+    const int capacity = static_cast<int>(inner_w * inner_h / (std::sqrt(3.0) / 2.0 * d * d)) + 1;
+    if (frontend.max_features > capacity)
+      throw ConfigError(fmt::format(
+          "configuration value frontend.max_features = {} is more than the {} features a {}x{} sensor holds "
+          "{} px apart (frontend.min_distance_px) inside a {} px border (frontend.border_margin_px)",
+          frontend.max_features, capacity, sensor.width, sensor.height, d, frontend.border_margin_px));
+  }
 }
 
 }  // namespace asynevo

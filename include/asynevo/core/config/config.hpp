@@ -26,6 +26,9 @@ struct Config {
   }
   /// Throws ConfigError naming the first out-of-range value.
   void validate() const;
+  /// Checks that need the sensor size, once it is known (the reader's): the border leaves an image and
+  /// the feature budget fits it. Throws ConfigError naming the keys.
+  void validateForSensor() const;
 };
 
 /// Loads `path` over the defaults. Throws InputError (missing/unreadable/malformed file, unknown
