@@ -106,5 +106,37 @@ TEST(MvsecReader, EmptyEventTableYieldsNoEvents) {
   EXPECT_TRUE(readAllEvents(path).empty());
 }
 
+// A dataset that declares far more rows than the file stores (no chunk or block allocated: HDF5 reads
+// fill values) was read as 100 million events of pixel (0, 0) at t = 0, one packet at a time; it is
+// rejected before anything is read (found 2026-11-26 with the mvsec_groundtruth fuzz finding's fix).
+TEST(MvsecReader, RowsTheFileDoesNotStoreAreRejected) {
+  TempDir dir;
+  const auto path = dir.file("hollow_data.hdf5");
+  {
+    const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+    H5Pset_create_intermediate_group(lcpl, 1);
+    const hsize_t dims[2] = {100000000, 4};
+    const hid_t space = H5Screate_simple(2, dims, nullptr);
+    const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_alloc_time(dcpl, H5D_ALLOC_TIME_LATE);  // never written: no storage in the file
+    const hid_t dataset = H5Dcreate2(file, "davis/left/events", H5T_IEEE_F64LE, space, lcpl, dcpl, H5P_DEFAULT);
+    H5Dclose(dataset);
+    H5Pclose(dcpl);
+    H5Sclose(space);
+    H5Pclose(lcpl);
+    H5Fclose(file);
+  }
+  const std::string expected =
+      path + ": dataset 'davis/left/events' declares 400000000 values of 8 bytes, more than the " +
+      std::to_string(std::filesystem::file_size(path)) + "-byte file holds (corrupt file?)";
+  try {
+    openEventReader(path);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), expected);
+  }
+}
+
 }  // namespace
 }  // namespace asynevo
