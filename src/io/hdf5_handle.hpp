@@ -96,6 +96,15 @@ inline void h5CheckFloatDataset(const std::string& path, hid_t dataset, const ch
                                        "holds (corrupt file?)",
                                        name, elements, size, file_bytes));
   }
+  // Without filters the stored bytes are the values themselves. Fewer stored than declared is a corrupt
+  // chunk index or layout message: libhdf5 1.10 then copies a whole chunk out of a smaller buffer (a
+  // heap overflow inside H5Dread, found 2026-11-26 by the mvsec_events fuzz harness).
+  const hsize_t stored = H5Dget_storage_size(dataset);
+  if (!filtered && elements * size > stored) {
+    throw InputError(path, fmt::format("dataset '{}' declares {} values of {} bytes ({} bytes) but stores {} bytes "
+                                       "(corrupt chunk index or layout?)",
+                                       name, elements, size, elements * size, stored));
+  }
 }
 
 }  // namespace asynevo::io_detail

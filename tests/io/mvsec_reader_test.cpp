@@ -138,5 +138,20 @@ TEST(MvsecReader, RowsTheFileDoesNotStoreAreRejected) {
   }
 }
 
+// The mvsec_events fuzz finding of 2026-11-26 (fuzz/corpus/mvsec_events/regress_chunk_smaller_than_declared.hdf5):
+// a chunked 40×4 float64 dataset whose chunk index stores fewer bytes than the chunk; libhdf5 1.10 copied
+// 1280 bytes out of an 8-byte buffer inside H5Dread (ASan heap-buffer-overflow). Rejected before reading.
+TEST(MvsecReader, StoredBytesFewerThanDeclaredAreRejectedBeforeReading) {
+  const std::string path =
+      std::string(ASYNEVO_SOURCE_DIR) + "/fuzz/corpus/mvsec_events/regress_chunk_smaller_than_declared.hdf5";
+  try {
+    openEventReader(path);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": dataset 'davis/left/events' declares 160 values of 8 bytes (1280 "
+                                            "bytes) but stores 0 bytes (corrupt chunk index or layout?)");
+  }
+}
+
 }  // namespace
 }  // namespace asynevo
