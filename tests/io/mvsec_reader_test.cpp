@@ -153,5 +153,20 @@ TEST(MvsecReader, StoredBytesFewerThanDeclaredAreRejectedBeforeReading) {
   }
 }
 
+// The second one (regress_chunk_larger_than_stored.hdf5): the layout message says 40x65 chunks for a 40x4
+// dataset that stores 1280 bytes; libhdf5 read 32 bytes past a 1288-byte buffer.
+TEST(MvsecReader, ChunkLargerThanTheStoredBytesIsRejectedBeforeReading) {
+  const std::string path =
+      std::string(ASYNEVO_SOURCE_DIR) + "/fuzz/corpus/mvsec_events/regress_chunk_larger_than_stored.hdf5";
+  try {
+    openEventReader(path);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": dataset 'davis/left/events' stores 1280 bytes, not a whole number "
+                                            "of its chunks (40x65 values of 8 bytes each; corrupt chunk index or "
+                                            "layout?)");
+  }
+}
+
 }  // namespace
 }  // namespace asynevo
