@@ -19,7 +19,7 @@ class EventChecker {
   /// set another size (not for a size a file's header states: a pixel outside it is a damaged file).
   EventChecker(int width, int height, int64_t max_time_reversal_ns, std::string size_origin = "",
                bool size_settable = false)
-      : width_(width), height_(height), tolerance_ns_(max_time_reversal_ns) {
+      : width_(width), height_(height), tolerance_ns_(max_time_reversal_ns > 0 ? max_time_reversal_ns : 0) {
     if (!size_origin.empty()) size_note_ = " (size from " + size_origin + ")";
     if (size_settable) size_note_ += std::string("; ") + kSensorSizeHowTo;
   }
@@ -37,11 +37,14 @@ class EventChecker {
       return false;
     }
     if (t_ns < last_t_ns_) {
-      if (last_t_ns_ - t_ns > tolerance_ns_) {
+      // The step back in unsigned arithmetic: with times near both ends of int64 (a corrupt file) the
+      // signed difference would overflow.
+      const uint64_t back = static_cast<uint64_t>(last_t_ns_) - static_cast<uint64_t>(t_ns);
+      if (back > static_cast<uint64_t>(tolerance_ns_)) {
         error = fmt::format(
             "time goes backwards by {} ns (tolerance input.max_time_reversal_us = {:g}); the events must be "
             "sorted by time",
-            last_t_ns_ - t_ns, static_cast<double>(tolerance_ns_) / 1000.0);
+            back, static_cast<double>(tolerance_ns_) / 1000.0);
         return false;
       }
       t_ns = last_t_ns_;

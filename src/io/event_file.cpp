@@ -1,6 +1,7 @@
 #include "asynevo/io/event_file.hpp"
 
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <vector>
 
@@ -115,6 +116,12 @@ EventFileReader::EventFileReader(const std::string& path, const ReaderOptions& o
   std::fseek(file_.get(), 0, SEEK_END);
   const long size = std::ftell(file_.get());
   std::fseek(file_.get(), static_cast<long>(kEventFileHeaderBytes), SEEK_SET);
+  // A count whose byte size does not fit in 64 bits would wrap around and could match the file's size.
+  const uint64_t max_count = (UINT64_MAX - kEventFileHeaderBytes) / kEventFileRecordBytes;
+  if (count_ > max_count) {
+    throw InputError(path, "corrupt .aevt file: the header announces " + std::to_string(count_) +
+                               " events, more than any file can hold");
+  }
   const uint64_t expected = kEventFileHeaderBytes + count_ * kEventFileRecordBytes;
   if (size < 0 || static_cast<uint64_t>(size) != expected) {
     throw InputError(path, "truncated or corrupt .aevt file: the header announces " + std::to_string(count_) +

@@ -1,9 +1,11 @@
 #include "asynevo/io/groundtruth_reader.hpp"
 
 #include <Eigen/Dense>
+#include <fmt/format.h>
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include "asynevo/core/error.hpp"
@@ -35,7 +37,12 @@ std::vector<double> readDoubles(const std::string& file_path, hid_t file, const 
   dims.assign(static_cast<std::size_t>(rank), 0);
   H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
   hsize_t total = 1;
-  for (hsize_t d : dims) total *= d;
+  for (hsize_t d : dims) {
+    if (d != 0 && total > std::numeric_limits<hsize_t>::max() / d)
+      throw InputError(file_path, std::string("dataset '") + dataset_path + "' has more values than 64 bits count");
+    total *= d;
+  }
+  io_detail::h5CheckFloatDataset(file_path, dataset.get(), dataset_path, total);
   std::vector<double> values(total);
   if (total > 0 && H5Dread(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0)
     throw InputError(file_path, std::string("cannot read dataset '") + dataset_path + "' (corrupt file?)");
@@ -68,6 +75,9 @@ StampedTrajectory readMvsecGroundTruth(const std::string& path) {
     const Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> T(&poses[i * 16]);
     if (!T.allFinite() || !std::isfinite(times[i]))
       throw InputError::atRecord(path, i, "non-finite pose or time (NaN or inf)");
+    // The MVSEC event reader's bound: int64 nanoseconds hold ±9.2e9 s; beyond, the conversion is undefined.
+    if (std::fabs(times[i]) > 9.0e9)
+      throw InputError::atRecord(path, i, fmt::format("time {} s is out of range (|t| > 9e9 s)", times[i]));
     const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
     if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-3 || R.determinant() <= 0)
       throw InputError::atRecord(path, i, "the rotation block is not a rotation matrix");

@@ -1,6 +1,8 @@
 #include "mvsec_reader.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 #include "asynevo/core/error.hpp"
 #include "asynevo/core/time.hpp"
@@ -35,6 +37,9 @@ MvsecReader::MvsecReader(const std::string& path, const ReaderOptions& options)
       dims[1] != 4) {
     throw InputError(path, std::string("dataset '") + kMvsecEventsPath + "' must be N×4 [x, y, t, p]");
   }
+  if (dims[0] > std::numeric_limits<uint64_t>::max() / 4)
+    throw InputError(path, std::string("dataset '") + kMvsecEventsPath + "' has more values than 64 bits count");
+  h5CheckFloatDataset(path, dataset_.get(), kMvsecEventsPath, dims[0] * 4);
   rows_ = dims[0];
 }
 

@@ -458,14 +458,14 @@ std::size_t Evt3Reader::decode(Event* out, std::size_t capacity) {
       }
       case 0x6:  // EVT_TIME_LOW
         time_low_ = word & 0xFFF;
-        updateTime();
+        updateTime(offsetOf(pos_ - 2));
         break;
       case 0x8: {  // EVT_TIME_HIGH
         const uint64_t high = word & 0xFFF;
         if (have_time_ && high < time_high_ && time_high_ - high >= 2048) ++wraps_;
         time_high_ = high;
         have_time_ = true;
-        updateTime();
+        updateTime(offsetOf(pos_ - 2));
         break;
       }
       case 0xA:  // EXT_TRIGGER
@@ -514,7 +514,7 @@ std::size_t Evt2Reader::decode(Event* out, std::size_t capacity) {
       case 0x0:  // CD_OFF
       case 0x1:  // CD_ON
         if (have_time_) {
-          emit(out[n], static_cast<int64_t>(base_us_ + ((word >> 22) & 0x3F)) * 1000, (word >> 11) & 0x7FF,
+          emit(out[n], usToNs(base_us_ + ((word >> 22) & 0x3F), offsetOf(pos_ - 4)), (word >> 11) & 0x7FF,
                word & 0x7FF, word >> 28, offsetOf(pos_ - 4));
           ++n;
         } else {
@@ -526,6 +526,7 @@ std::size_t Evt2Reader::decode(Event* out, std::size_t capacity) {
         if (have_time_ && high < time_high_ && time_high_ - high >= (uint64_t{1} << 27)) ++wraps_;
         time_high_ = high;
         base_us_ = (wraps_ << 34) | (high << 6);
+        usToNs(base_us_, offsetOf(pos_ - 4));  // out of range here already: fail at the time word
         have_time_ = true;
         break;
       }
@@ -588,7 +589,7 @@ std::size_t DatReader::decode(Event* out, std::size_t capacity) {
     if (have_time_ && t < last_raw_t_ && last_raw_t_ - t > 0x80000000u) ++wraps_;
     last_raw_t_ = t;
     have_time_ = true;
-    emit(out[n], static_cast<int64_t>((wraps_ << 32) | t) * 1000, data & 0x3FFF, (data >> 14) & 0x3FFF, data >> 28,
+    emit(out[n], usToNs((wraps_ << 32) | t, offsetOf(pos_ - 8)), data & 0x3FFF, (data >> 14) & 0x3FFF, data >> 28,
          offsetOf(pos_ - 8));
     ++n;
   }

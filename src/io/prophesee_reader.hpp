@@ -76,6 +76,19 @@ class PropheseeReader : public EventReader {
   /// Byte offset in the file of the chunk position `pos`.
   uint64_t offsetOf(std::size_t pos) const { return chunk_offset_ + pos; }
   [[noreturn]] void fail(uint64_t offset, const std::string& message) const;
+  /// A decoded time in µs as ns; throws InputError naming `offset` when it does not fit in int64 ns
+  /// (time wraps counted without end in a corrupt or crafted file).
+  int64_t usToNs(uint64_t t_us, uint64_t offset) const {
+    constexpr uint64_t kMaxUs = static_cast<uint64_t>(INT64_MAX) / 1000;
+    if (t_us > kMaxUs) {
+      fail(offset, fmt::format("time {} µs after {} wraps of the {} time counter is out of range (more than "
+                               "{} µs; corrupt time words?)",
+                               t_us, wrapsSoFar(), format_label_, kMaxUs));
+    }
+    return static_cast<int64_t>(t_us) * 1000;
+  }
+  /// Times the format's time counter has wrapped so far (for messages).
+  virtual uint64_t wrapsSoFar() const = 0;
   /// Checks and stores one event at out[n]; throws InputError naming `offset` when it is invalid.
   void emit(Event& out, int64_t t_ns, int64_t x, int64_t y, int64_t polarity, uint64_t offset) {
     if (!checker_.accept(t_ns, x, y, polarity, out, error_)) fail(offset, error_);
@@ -110,7 +123,9 @@ class Evt3Reader final : public PropheseeReader {
   std::size_t decode(Event* out, std::size_t capacity) override;
   void resetDecoder() override;
   std::size_t drainVector(Event* out, std::size_t n, std::size_t capacity);
-  void updateTime() { t_ns_ = static_cast<int64_t>((wraps_ << 24) | (time_high_ << 12) | time_low_) * 1000; }
+  /// The time from the current counters; `offset` is the time word's, for the out-of-range error.
+  void updateTime(uint64_t offset) { t_ns_ = usToNs((wraps_ << 24) | (time_high_ << 12) | time_low_, offset); }
+  uint64_t wrapsSoFar() const override { return wraps_; }
 
   uint64_t wraps_ = 0;          ///< times the 24-bit time base wrapped around
   uint64_t time_high_ = 0;
@@ -136,6 +151,7 @@ class Evt2Reader final : public PropheseeReader {
  private:
   std::size_t decode(Event* out, std::size_t capacity) override;
   void resetDecoder() override;
+  uint64_t wrapsSoFar() const override { return wraps_; }
 
   uint64_t wraps_ = 0;          ///< times the 34-bit time wrapped around
   uint64_t time_high_ = 0;
@@ -152,6 +168,7 @@ class DatReader final : public PropheseeReader {
  private:
   std::size_t decode(Event* out, std::size_t capacity) override;
   void resetDecoder() override;
+  uint64_t wrapsSoFar() const override { return wraps_; }
 
   uint64_t wraps_ = 0;          ///< times the 32-bit µs time wrapped around
   uint32_t last_raw_t_ = 0;

@@ -129,15 +129,21 @@ StampedTrajectory readPoseFile(const std::string& path, TrajectoryReadReport* re
     pose.t_ns = t_ns;
     pose.p_w_c = Eigen::Vector3d(v[1], v[2], v[3]);
     Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);  // Eigen's constructor takes w first
-    const double norm = q.norm();
+    // Scaled by the largest component first: q.norm() squares the components, which overflows to inf for
+    // components above ~1e154 (the quaternion then became 0 / inf = 0 and was accepted; found 2026-11-26
+    // by the tum_trajectory fuzz harness) and underflows to 0 below ~1e-154.
+    const double scale = q.coeffs().cwiseAbs().maxCoeff();
+    const double unit_norm = scale > 0 ? (q.coeffs() / scale).norm() : 0.0;  // in [1, 2] unless zero
+    const double norm = scale * unit_norm;
     if (!(norm > 1e-12)) throw reader.error("zero quaternion (qx qy qz qw all 0)");
+    if (!std::isfinite(norm)) throw reader.error("quaternion too large to normalize (its norm overflows)");
     const double norm_error = std::fabs(norm - 1.0);
     if (norm_error > report.max_quaternion_norm_error) report.max_quaternion_norm_error = norm_error;
     if (norm_error > kQuaternionNormTolerance) {
       if (report.normalized_quaternions == 0) report.first_normalized_line = reader.lineNumber();
       ++report.normalized_quaternions;
     }
-    q.coeffs() /= norm;
+    q.coeffs() = (q.coeffs() / scale) / unit_norm;
     pose.q_w_c = q;
     trajectory.push_back(pose);
   }

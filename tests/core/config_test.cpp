@@ -71,6 +71,15 @@ TEST(Config, UnknownKeyIsAnErrorWithItsLine) {
   }
 }
 
+// A YAML complex key ("? " followed by a mapping or list) is not a name: the loader converted every key
+// to a string and yaml-cpp's BadConversion escaped as a non-InputError (found 2026-11-26 by the config
+// fuzz harness: a stray '?' in config/ecd.yaml's comments).
+TEST(Config, KeyThatIsNotANameIsAnErrorWithItsLine) {
+  expectInputError("sensor:\n ? # sensor columns\n  min_dt_ms: 0\n",
+                   "my.yaml:3: a configuration key in 'sensor' is a mapping, not a name (a stray '?' before it?)");
+  expectInputError("? [a, b]\n: 1\n", "my.yaml:1: a configuration key is a list, not a name (a stray '?' before it?)");
+}
+
 TEST(Config, WrongTypeIsAnErrorWithItsLine) {
   expectInputError("sensor:\n  width: wide\n", "my.yaml:2: 'sensor.width' must be an integer");
   expectInputError("input:\n  max_time_reversal_us: .nan\n",

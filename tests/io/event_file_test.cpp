@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <filesystem>
+#include <fstream>
 
 #include "asynevo/core/error.hpp"
 #include "asynevo/io/event_reader.hpp"
@@ -83,6 +85,53 @@ TEST(EventFile, OutOfSensorRecordIsReportedByIndex) {
     ADD_FAILURE();
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), path + ": record 1: pixel (300, 1) is outside the 240x180 sensor (size from the .aevt header)");
+  }
+}
+
+// A time step back across most of the int64 range (found 2026-11-26 by the aevt_events fuzz harness):
+// the checker's signed difference overflowed (UBSan); in a normal build the wrapped difference was
+// negative, so the event was clamped and accepted instead of rejected.
+TEST(EventFile, TimeStepBackAcrossTheInt64RangeIsReported) {
+  TempDir dir;
+  const auto path = dir.file("events.aevt");
+  {
+    const std::vector<Event> events = {{1, 1, 1, 1}, {INT64_MIN, 1, 1, 1}};
+    EventFileWriter writer(path, 240, 180);
+    writer.write(events.data(), events.size());
+    writer.close();
+  }
+  try {
+    readAllEvents(path);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).substr(0, path.size() + 57),
+              path + ": record 1: time goes backwards by 9223372036854775809 ns");
+  }
+}
+
+// An event count whose byte size wraps around 64 bits (2^60 + 2 events: 16 * count wraps to 32 bytes)
+// matched the size of a file with 2 records, and the reader promised 2^60 events.
+TEST(EventFile, CountWhoseByteSizeWrapsIsRejected) {
+  TempDir dir;
+  const auto path = dir.file("events.aevt");
+  {
+    const std::vector<Event> events = {{1, 1, 1, 1}, {2, 1, 1, 1}};
+    EventFileWriter writer(path, 240, 180);
+    writer.write(events.data(), events.size());
+    writer.close();
+  }
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(24);  // magic 8, version, width, height, record size: 4 each; then the uint64 count
+    const uint64_t count = (uint64_t{1} << 60) + 2;
+    f.write(reinterpret_cast<const char*>(&count), sizeof(count));
+  }
+  try {
+    openEventReader(path);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              path + ": corrupt .aevt file: the header announces 1152921504606846978 events, more than any file can hold");
   }
 }
 

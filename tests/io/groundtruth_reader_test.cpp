@@ -51,6 +51,36 @@ TEST(MvsecGroundTruth, BadPosesNameTheRecord) {
   EXPECT_THROW(readMvsecGroundTruth(path), InputError);
 }
 
+// A finite time beyond int64 nanoseconds (found 2026-11-26 by reading the reader after fuzzing): llround
+// gave INT64_MIN for 1e20 s and a one-pose file was accepted with that time.
+TEST(MvsecGroundTruth, TimeOutsideTheInt64RangeNamesTheRecord) {
+  TempDir dir;
+  const auto path = dir.file("far_gt.hdf5");
+  testing::writeMvsecGroundTruth(path, {poseAboutZ(0, 0, 0, 0)}, {1e20});
+  try {
+    readMvsecGroundTruth(path);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": record 0: time 1e+20 s is out of range (|t| > 9e9 s)");
+  }
+}
+
+// The mvsec_groundtruth fuzz finding of 2026-11-26 (fuzz/corpus/mvsec_groundtruth/regress_float_type_4gb.hdf5):
+// pose_ts declared as a float type of 4278190088 bytes per value; H5Dread allocated 4 GB for the
+// conversion (libFuzzer: out-of-memory). The type is checked before anything is read.
+TEST(MvsecGroundTruth, ImplausibleValueTypeIsRejectedBeforeReading) {
+  const std::string path =
+      std::string(ASYNEVO_SOURCE_DIR) + "/fuzz/corpus/mvsec_groundtruth/regress_float_type_4gb.hdf5";
+  try {
+    readMvsecGroundTruth(path);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": dataset 'davis/left/pose_ts' does not hold 32- or 64-bit "
+                                            "floating-point numbers (its values are 4278190088 bytes each; "
+                                            "corrupt file?)");
+  }
+}
+
 TEST(GroundTruth, TextFilesGoToTheTumReader) {
   const auto trajectory = readGroundTruth(dataPath("ecd/shapes_rotation/groundtruth.txt"));
   EXPECT_EQ(trajectory.size(), 11883u);

@@ -106,5 +106,67 @@ TEST(MvsecReader, EmptyEventTableYieldsNoEvents) {
   EXPECT_TRUE(readAllEvents(path).empty());
 }
 
+// A dataset that declares far more rows than the file stores (no chunk or block allocated: HDF5 reads
+// fill values) was read as 100 million events of pixel (0, 0) at t = 0, one packet at a time; it is
+// rejected before anything is read (found 2026-11-26 with the mvsec_groundtruth fuzz finding's fix).
+TEST(MvsecReader, RowsTheFileDoesNotStoreAreRejected) {
+  TempDir dir;
+  const auto path = dir.file("hollow_data.hdf5");
+  {
+    const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+    H5Pset_create_intermediate_group(lcpl, 1);
+    const hsize_t dims[2] = {100000000, 4};
+    const hid_t space = H5Screate_simple(2, dims, nullptr);
+    const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_alloc_time(dcpl, H5D_ALLOC_TIME_LATE);  // never written: no storage in the file
+    const hid_t dataset = H5Dcreate2(file, "davis/left/events", H5T_IEEE_F64LE, space, lcpl, dcpl, H5P_DEFAULT);
+    H5Dclose(dataset);
+    H5Pclose(dcpl);
+    H5Sclose(space);
+    H5Pclose(lcpl);
+    H5Fclose(file);
+  }
+  const std::string expected =
+      path + ": dataset 'davis/left/events' declares 400000000 values of 8 bytes, more than the " +
+      std::to_string(std::filesystem::file_size(path)) + "-byte file holds (corrupt file?)";
+  try {
+    openEventReader(path);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), expected);
+  }
+}
+
+// The mvsec_events fuzz finding of 2026-11-26 (fuzz/corpus/mvsec_events/regress_chunk_smaller_than_declared.hdf5):
+// a chunked 40×4 float64 dataset whose chunk index stores fewer bytes than the chunk; libhdf5 1.10 copied
+// 1280 bytes out of an 8-byte buffer inside H5Dread (ASan heap-buffer-overflow). Rejected before reading.
+TEST(MvsecReader, StoredBytesFewerThanDeclaredAreRejectedBeforeReading) {
+  const std::string path =
+      std::string(ASYNEVO_SOURCE_DIR) + "/fuzz/corpus/mvsec_events/regress_chunk_smaller_than_declared.hdf5";
+  try {
+    openEventReader(path);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": dataset 'davis/left/events' declares 160 values of 8 bytes (1280 "
+                                            "bytes) but stores 0 bytes (corrupt chunk index or layout?)");
+  }
+}
+
+// The second one (regress_chunk_larger_than_stored.hdf5): the layout message says 40x65 chunks for a 40x4
+// dataset that stores 1280 bytes; libhdf5 read 32 bytes past a 1288-byte buffer.
+TEST(MvsecReader, ChunkLargerThanTheStoredBytesIsRejectedBeforeReading) {
+  const std::string path =
+      std::string(ASYNEVO_SOURCE_DIR) + "/fuzz/corpus/mvsec_events/regress_chunk_larger_than_stored.hdf5";
+  try {
+    openEventReader(path);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": dataset 'davis/left/events' stores 1280 bytes, not a whole number "
+                                            "of its chunks (40x65 values of 8 bytes each; corrupt chunk index or "
+                                            "layout?)");
+  }
+}
+
 }  // namespace
 }  // namespace asynevo

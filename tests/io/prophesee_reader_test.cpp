@@ -527,6 +527,42 @@ TEST(PropheseeBadInput, EventsOutsideTheHeaderGeometry) {
   expectErrorAt(path, kDatHeader.size() + 2, "polarity 7 is not one of 0, 1, -1");
 }
 
+// Time words that wrap the counter again and again push the time past int64 nanoseconds: a located
+// error at the word or record where it leaves the range, not a signed overflow (found 2026-11-26 while
+// fuzzing: UBSan "signed integer overflow" in the EVT 2.0 decoder; before, the wrapped-around time
+// surfaced as a misleading "time goes backwards"). EVT 3.0 has the same check but needs ~2 GB of words.
+TEST(PropheseeBadInput, TimeWrappedPastTheInt64RangeIsAnError) {
+  TempDir dir;
+  // EVT 2.0: TIME_HIGH 0x0FFFFFFF then 0 is one wrap of the 34-bit µs counter (2^34 µs); after 536870
+  // wraps the next TIME_HIGH 0x0FFFFFFF (word 1073740) is above INT64_MAX / 1000 µs.
+  std::string words;
+  const std::string pair = le32(timeHigh2(0x0FFFFFFF)) + le32(timeHigh2(0));
+  for (int i = 0; i < 536871; ++i) words += pair;
+  auto path = dir.write("wraps.raw", kEvt2Header + words + evt2Words({cd(1, 0, 1, 1)}));
+  expectErrorAt(path, kEvt2Header.size() + 4 * uint64_t{1073740},
+                "time 9223373548683200 µs after 536870 wraps of the EVT 2.0 time counter is out of range");
+  // DAT: records at 0xFFFFFFFF then 0 µs are one wrap of the 32-bit counter; record 4294966 is the first
+  // past the range.
+  std::string records;
+  const std::string two = datRecord(0xFFFFFFFFu, 1, 1, 1) + datRecord(0, 1, 1, 1);
+  records.reserve(two.size() * 2147484);
+  for (int i = 0; i < 2147484; ++i) records += two;
+  path = dir.write("wraps.dat", kDatHeader + kDatCdTypeSize + records);
+  records = std::string();
+  std::string message;
+  try {  // packet by packet: readAllEvents would hold the 4 million events before the error
+    auto reader = openEventReader(path);
+    EventPacket packet;
+    while (reader->read(packet)) {
+    }
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  const std::string expected = path + ": byte " + std::to_string(kDatHeader.size() + 2 + 8 * uint64_t{4294966}) +
+                               ": time 9223373548683263 µs after 2147483 wraps of the DAT time counter is out of range";
+  EXPECT_EQ(message.substr(0, expected.size()), expected) << "full message: " << message;
+}
+
 // Corrupt data never crashes a reader: every random byte string after a valid header either decodes or
 // stops with an InputError that names the file and a byte offset inside it.
 TEST(PropheseeBadInput, RandomBytesDecodeOrFailCleanly) {

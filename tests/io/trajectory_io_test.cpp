@@ -135,6 +135,19 @@ TEST_F(TrajectoryIo, NonUnitQuaternionIsNormalizedAndCounted) {
   EXPECT_DOUBLE_EQ(traj[2].q_w_c.w(), 0.8);
 }
 
+// Components so large that squaring them overflows (found 2026-11-26 by the tum_trajectory fuzz harness):
+// the norm was inf, the quaternion became 0 / inf = 0 and was accepted. Now normalized like any other.
+TEST_F(TrajectoryIo, HugeQuaternionIsNormalizedNotZeroed) {
+  const std::string path = write("traj.txt", "0.05 0 0 1 0 2.2e206 0 1\n");
+  TrajectoryReadReport report;
+  const StampedTrajectory traj = readTumTrajectory(path, &report);
+  ASSERT_EQ(traj.size(), 1u);
+  EXPECT_DOUBLE_EQ(traj[0].q_w_c.y(), 1.0);
+  EXPECT_NEAR(traj[0].q_w_c.norm(), 1.0, 1e-12);
+  EXPECT_EQ(report.normalized_quaternions, 1u);
+  expectTumError("0 0 0 0 1.5e308 1.5e308 1.5e308 1.5e308\n", 1, "quaternion too large to normalize");
+}
+
 TEST_F(TrajectoryIo, MissingAndEmptyFiles) {
   EXPECT_THROW(readTumTrajectory((dir_ / "does_not_exist.txt").string()), InputError);
   try {

@@ -70,6 +70,12 @@ class YamlLoader {
 
   void rejectUnknownKeys() const {
     for (const auto& item : node_) {
+      if (!item.first.IsScalar()) {  // "? " complex keys: a mapping, list or nothing as the key
+        const YAML::Node& where = item.first.Mark().line >= 0 ? item.first : node_;
+        fail(where, fmt::format("a configuration key{} is {}, not a name (a stray '?' before it?)",
+                                prefix_.empty() ? "" : " in '" + prefix_.substr(0, prefix_.size() - 1) + "'",
+                                item.first.IsMap() ? "a mapping" : item.first.IsSequence() ? "a list" : "empty"));
+      }
       const std::string key = item.first.as<std::string>();
       if (known_.count(key) == 0) {
         std::string known;
