@@ -93,15 +93,18 @@ Eigen::VectorXd rotationResiduals(const lie::Vec3& phi, const std::vector<Pair>&
   return r;
 }
 
+/// Σ c² log(1 + (r/c)²), the Cauchy cost of residuals r at scale c (c ≤ 0: plain least squares).
+double cauchyCost(const Eigen::VectorXd& r, double c) {
+  if (c <= 0) return r.squaredNorm();
+  return (c * c * (r.array() / c).square().log1p()).sum();
+}
+
 /// Levenberg–Marquardt with a forward-difference Jacobian and Cauchy weights of scale `c` (c ≤ 0: plain
 /// least squares), on parameters updated by `retract(x, δ)`. Returns false when the cost is not finite.
 bool minimize(Eigen::VectorXd* x, int dim, const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& residuals,
               const std::function<Eigen::VectorXd(const Eigen::VectorXd&, const Eigen::VectorXd&)>& retract,
               double c, int max_iterations) {
-  auto cost = [c](const Eigen::VectorXd& r) {
-    if (c <= 0) return r.squaredNorm();
-    return (c * c * (r.array() / c).square().log1p()).sum();
-  };
+  auto cost = [c](const Eigen::VectorXd& r) { return cauchyCost(r, c); };
   Eigen::VectorXd r = residuals(*x);
   double f = cost(r);
   if (!std::isfinite(f)) return false;
@@ -196,8 +199,18 @@ Twist refine(const lie::Vec3& phi_seed, const std::vector<Pair>& pairs, double c
     return w;
   }
   const Eigen::VectorXd r = residuals(x);
-  *cost = (c * c * (r.array() / c).square().log1p()).sum();
+  *cost = cauchyCost(r, c);
   return unpack(x);
+}
+
+/// Per sampled track: whether every one of its pairs lies within three RANSAC thresholds (3c) of its
+/// epipolar plane under w (the constant twist is only a model of the motion over the window).
+std::vector<bool> fittingFeatures(const Twist& w, const Samples& s, double c) {
+  std::vector<bool> fits(s.longest.size(), true);
+  for (const Pair& p : s.pairs) {
+    if (std::abs(epipolarError(w, p)) > 3.0 * c) fits[p.track] = false;
+  }
+  return fits;
 }
 
 /// Root-sum-square of per-feature parallaxes: the baseline direction's precision grows with it (each
@@ -254,13 +267,8 @@ InitResult initializeMultiView(const TrackMap& tracks, int64_t earliest_ns, int6
     r.failure = fmt::format("{}: no constant-twist fit from {} features", span, r.features);
     return r;
   }
-  // A feature fits when every one of its pairs lies within three RANSAC thresholds of its epipolar
-  // plane (the constant twist is only a model of the motion over the window).
-  std::vector<bool> fits(s.longest.size(), true);
-  for (const Pair& p : s.pairs) {
-    if (std::abs(epipolarError(w, p)) > 3.0 * c) fits[p.track] = false;
-  }
   // Refit on the features that fit: the robust loss bounds the pull of the others but does not remove it.
+  std::vector<bool> fits = fittingFeatures(w, s, c);
   std::vector<Pair> fitting;
   for (const Pair& p : s.pairs) {
     if (fits[p.track]) fitting.push_back(p);
@@ -269,10 +277,7 @@ InitResult initializeMultiView(const TrackMap& tracks, int64_t earliest_ns, int6
     double cost = 0;
     const Twist refit = refine(w.phi, fitting, c, &cost);
     if (std::isfinite(cost) && refit.phi.allFinite() && refit.rho.allFinite()) w = refit;
-    std::fill(fits.begin(), fits.end(), true);
-    for (const Pair& p : s.pairs) {
-      if (std::abs(epipolarError(w, p)) > 3.0 * c) fits[p.track] = false;
-    }
+    fits = fittingFeatures(w, s, c);
   }
   // The sign of ρ: the one that puts more of the fitting features in front of both cameras, judged on
   // each feature's longest pair; features with too little parallax for a depth sign do not vote.

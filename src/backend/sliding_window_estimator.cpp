@@ -154,22 +154,22 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   // The second view lags event time by one knot interval: the newest measurements of most features are
   // a little older than the newest event (tracker windows, min_dt), and both views need every feature.
   const BackendConfig config = initConfig(t_ns);
-  const InitResult two_view =
+  const InitResult motion =
       findInitialMotion(std::max(first_measurement_ns_, horizon), t_ns - knot_dt_ns_, config, relaxed(t_ns));
-  if (!two_view.ok) {
-    stats_.init_last_failure = two_view.failure;
-    ++stats_.init_rejections[static_cast<int>(two_view.rejection)];
+  if (!motion.ok) {
+    stats_.init_last_failure = motion.failure;
+    ++stats_.init_rejections[static_cast<int>(motion.rejection)];
     return;
   }
-  // Knots on a grid from t_a, at constant velocity through the two views. The monocular scale is fixed
+  // Knots on a grid from t_a, at constant velocity through the start's motion. The monocular scale is fixed
   // so that the mean speed over the two-view span is 1 map unit per second: map velocities are then
   // O(1) whatever the scene, and the WNOA Q_c has the same meaning on every sequence (docs/backend.md).
-  const double span_s = durationSeconds(two_view.t_a_ns, two_view.t_b_ns);
-  const lie::SE3 T_a_b(two_view.T_a_b.rotation(), two_view.T_a_b.translation() * span_s);
+  const double span_s = durationSeconds(motion.t_a_ns, motion.t_b_ns);
+  const lie::SE3 T_a_b(motion.T_a_b.rotation(), motion.T_a_b.translation() * span_s);
   const lie::Vec6 w = lie::se3::log(T_a_b) / span_s;
   Trajectory trajectory;
-  for (int64_t t = two_view.t_a_ns; t <= t_ns; t += knot_dt_ns_) {
-    trajectory.add(t, lie::se3::exp(durationSeconds(two_view.t_a_ns, t) * w), w);
+  for (int64_t t = motion.t_a_ns; t <= t_ns; t += knot_dt_ns_) {
+    trajectory.add(t, lie::se3::exp(durationSeconds(motion.t_a_ns, t) * w), w);
   }
   if (trajectory.size() < 3) {
     stats_.init_last_failure = "initialization window shorter than three knots";
@@ -193,7 +193,7 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
                                   nullptr, {first.pose.data(), first.velocity.data()}},
                       {first.t_ns}});
   // Scale: the distance from the first knot to the last knot of the two-view span stays as initialized.
-  Knot& far = std::prev(trajectory_.knots().upper_bound(two_view.t_b_ns))->second;
+  Knot& far = std::prev(trajectory_.knots().upper_bound(motion.t_b_ns))->second;
   const double baseline = (far.T_w_c().translation() - first.T_w_c().translation()).norm();
   anchors_.push_back({FactorEntry{std::make_shared<ScaleAnchorFactor>(baseline, 1e-3 * baseline), nullptr,
                                   {first.pose.data(), far.pose.data()}},
@@ -204,11 +204,11 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   for (const auto& [id, track] : tracks_) landmarks += track.triangulated;
   // A multi-view start's features need not span the window, so its fit can pass with few of them able
   // to make a landmark; it must triangulate as many landmarks as the two-view start needs inliers.
-  const int min_landmarks = std::string_view(two_view.method) == "multi-view" ? config.init_min_inliers
+  const int min_landmarks = std::string_view(motion.method) == "multi-view" ? config.init_min_inliers
                                                                                : config.init_min_inliers / 2;
   if (landmarks < min_landmarks) {
     stats_.init_last_failure = fmt::format("{} pose found ({} inliers) but only {} landmarks triangulated (need {})",
-                                           two_view.method, two_view.inliers, landmarks, min_landmarks);
+                                           motion.method, motion.inliers, landmarks, min_landmarks);
     ++stats_.init_rejections[static_cast<int>(InitRejection::Landmarks)];
     trajectory_ = Trajectory();
     anchors_.clear();
@@ -218,8 +218,8 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   if (!stats_.initialized) {
     stats_.initialized = true;
     stats_.initialized_at_ns = t_ns;
-    stats_.init_views = {two_view.method, durationSeconds(two_view.t_a_ns, two_view.t_b_ns) * 1e3, two_view.features,
-                         two_view.inliers, two_view.parallax_px, landmarks};
+    stats_.init_views = {motion.method, durationSeconds(motion.t_a_ns, motion.t_b_ns) * 1e3, motion.features,
+                         motion.inliers, motion.parallax_px, landmarks};
   }
   tracking_ = true;
   Segment segment;

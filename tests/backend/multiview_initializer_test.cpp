@@ -55,14 +55,19 @@ double angleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
 }
 
-TEST(InitializeMultiView, StartsFromShortTracksThatTheTwoViewStartCannotUse) {
-  // 1 m/s sideways and forward, 0.2 rad/s yaw: 0.5 m over the window, tracks living 200 ms.
-  const Eigen::Vector3d v(0.8, 0.1, 0.4), omega(0.02, 0.2, 0.03);
-  const PoseAt pose = [&](double t) {
+/// A camera moving at the constant body twist (v, ω) from the identity.
+PoseAt constantTwist(const Eigen::Vector3d& v, const Eigen::Vector3d& omega) {
+  return [v, omega](double t) {
     lie::Vec6 xi;
     xi << v * t, omega * t;
     return lie::se3::exp(xi);
   };
+}
+
+TEST(InitializeMultiView, StartsFromShortTracksThatTheTwoViewStartCannotUse) {
+  // 1 m/s sideways and forward, 0.2 rad/s yaw: 0.5 m over the window, tracks living 200 ms.
+  const Eigen::Vector3d v(0.8, 0.1, 0.4), omega(0.02, 0.2, 0.03);
+  const PoseAt pose = constantTwist(v, omega);
   const TrackMap tracks = tracksOf(pose, 60, 0.2, 0.3);
   const InitResult two_view = initializeTwoView(tracks, kT0, kT1, kFocal, config());
   ASSERT_FALSE(two_view.ok);
@@ -113,11 +118,7 @@ TEST(InitializeMultiView, NamesTooFewFeaturesWithTheCounts) {
 TEST(InitializeMultiView, IgnoresTracksThatFollowNoMotion) {
   // A quarter of the tracks are drifting garbage: the Cauchy-weighted fit must not follow them.
   const Eigen::Vector3d v(1.2, 0.0, 0.4), omega(0.0, 0.1, 0.0);
-  const PoseAt pose = [&](double t) {
-    lie::Vec6 xi;
-    xi << v * t, omega * t;
-    return lie::se3::exp(xi);
-  };
+  const PoseAt pose = constantTwist(v, omega);
   TrackMap tracks = tracksOf(pose, 60, 0.25, 0.3);
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> drift(-0.3, 0.3);

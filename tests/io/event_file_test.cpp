@@ -16,6 +16,13 @@ namespace {
 using testing::dataPath;
 using testing::TempDir;
 
+/// `events` as a 240x180 .aevt file at `path`.
+void writeAevt(const std::string& path, const std::vector<Event>& events) {
+  EventFileWriter writer(path, 240, 180);
+  writer.write(events.data(), events.size());
+  writer.close();
+}
+
 TEST(EventFile, RoundTripsARealSliceExactly) {
   TempDir dir;
   const auto original = readAllEvents(dataPath("ecd/poster_rotation/events.txt"));
@@ -52,12 +59,7 @@ TEST(EventFile, SameEventsGiveIdenticalBytes) {
 TEST(EventFile, TruncatedFileIsReportedWithCounts) {
   TempDir dir;
   const auto path = dir.file("events.aevt");
-  {
-    const std::vector<Event> events(100, Event{5, 1, 1, 1});
-    EventFileWriter writer(path, 240, 180);
-    writer.write(events.data(), events.size());
-    writer.close();
-  }
+  writeAevt(path, std::vector<Event>(100, Event{5, 1, 1, 1}));
   std::filesystem::resize_file(path, 64 + 16 * 50 + 3);
   try {
     openEventReader(path);
@@ -74,12 +76,7 @@ TEST(EventFile, TruncatedFileIsReportedWithCounts) {
 TEST(EventFile, OutOfSensorRecordIsReportedByIndex) {
   TempDir dir;
   const auto path = dir.file("events.aevt");
-  {
-    const std::vector<Event> events = {{1, 1, 1, 1}, {2, 300, 1, 1}};
-    EventFileWriter writer(path, 240, 180);
-    writer.write(events.data(), events.size());
-    writer.close();
-  }
+  writeAevt(path, {{1, 1, 1, 1}, {2, 300, 1, 1}});
   try {
     readAllEvents(path);
     ADD_FAILURE();
@@ -94,12 +91,7 @@ TEST(EventFile, OutOfSensorRecordIsReportedByIndex) {
 TEST(EventFile, TimeStepBackAcrossTheInt64RangeIsReported) {
   TempDir dir;
   const auto path = dir.file("events.aevt");
-  {
-    const std::vector<Event> events = {{1, 1, 1, 1}, {INT64_MIN, 1, 1, 1}};
-    EventFileWriter writer(path, 240, 180);
-    writer.write(events.data(), events.size());
-    writer.close();
-  }
+  writeAevt(path, {{1, 1, 1, 1}, {INT64_MIN, 1, 1, 1}});
   try {
     readAllEvents(path);
     ADD_FAILURE();
@@ -114,12 +106,7 @@ TEST(EventFile, TimeStepBackAcrossTheInt64RangeIsReported) {
 TEST(EventFile, CountWhoseByteSizeWrapsIsRejected) {
   TempDir dir;
   const auto path = dir.file("events.aevt");
-  {
-    const std::vector<Event> events = {{1, 1, 1, 1}, {2, 1, 1, 1}};
-    EventFileWriter writer(path, 240, 180);
-    writer.write(events.data(), events.size());
-    writer.close();
-  }
+  writeAevt(path, {{1, 1, 1, 1}, {2, 1, 1, 1}});
   {
     std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
     f.seekp(24);  // magic 8, version, width, height, record size: 4 each; then the uint64 count
