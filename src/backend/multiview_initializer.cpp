@@ -5,19 +5,21 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <optional>
 #include <vector>
 
 #include "asynevo/core/time.hpp"
 #include "asynevo/lie/se3.hpp"
+#include "small_lm.hpp"
 #include "view_geometry.hpp"
 
 namespace asynevo::backend {
 
 namespace {
 
+using small_lm::cauchyCost;
+using small_lm::minimize;
 using view_geometry::Chirality;
 
 /// Two samples of one feature: its bearing at the earlier time s and at the later time e.
@@ -91,58 +93,6 @@ Eigen::VectorXd rotationResiduals(const lie::Vec3& phi, const std::vector<Pair>&
     r.segment<3>(3 * i) = lie::so3::exp(pairs[i].dt * phi) * pairs[i].f_e - pairs[i].f_s;
   }
   return r;
-}
-
-/// Σ c² log(1 + (r/c)²), the Cauchy cost of residuals r at scale c (c ≤ 0: plain least squares).
-double cauchyCost(const Eigen::VectorXd& r, double c) {
-  if (c <= 0) return r.squaredNorm();
-  return (c * c * (r.array() / c).square().log1p()).sum();
-}
-
-/// Levenberg–Marquardt with a forward-difference Jacobian and Cauchy weights of scale `c` (c ≤ 0: plain
-/// least squares), on parameters updated by `retract(x, δ)`. Returns false when the cost is not finite.
-bool minimize(Eigen::VectorXd* x, int dim, const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& residuals,
-              const std::function<Eigen::VectorXd(const Eigen::VectorXd&, const Eigen::VectorXd&)>& retract,
-              double c, int max_iterations) {
-  auto cost = [c](const Eigen::VectorXd& r) { return cauchyCost(r, c); };
-  Eigen::VectorXd r = residuals(*x);
-  double f = cost(r);
-  if (!std::isfinite(f)) return false;
-  double lambda = 1e-3;
-  for (int it = 0; it < max_iterations; ++it) {
-    Eigen::MatrixXd J(r.size(), dim);
-    for (int j = 0; j < dim; ++j) {
-      const double h = 1e-7;
-      J.col(j) = (residuals(retract(*x, Eigen::VectorXd::Unit(dim, j) * h)) - r) / h;
-    }
-    // Iteratively reweighted: the Cauchy weight of each residual at the current estimate.
-    Eigen::ArrayXd w = Eigen::ArrayXd::Ones(r.size());
-    if (c > 0) w = (1.0 + (r.array() / c).square()).inverse();
-    const Eigen::MatrixXd H = J.transpose() * w.matrix().asDiagonal() * J;
-    const Eigen::VectorXd g = J.transpose() * (w * r.array()).matrix();
-    bool improved = false;
-    for (int tries = 0; tries < 10 && !improved; ++tries) {
-      Eigen::MatrixXd A = H;
-      A.diagonal() += lambda * (H.diagonal().array() + 1e-12).matrix();
-      const Eigen::VectorXd delta = A.ldlt().solve(-g);
-      const Eigen::VectorXd x_new = retract(*x, delta);
-      const Eigen::VectorXd r_new = residuals(x_new);
-      const double f_new = cost(r_new);
-      if (std::isfinite(f_new) && f_new < f) {
-        const bool converged = f - f_new < 1e-10 * f || delta.norm() < 1e-10;
-        *x = x_new;
-        r = r_new;
-        f = f_new;
-        lambda = std::max(lambda / 3.0, 1e-9);
-        improved = true;
-        if (converged) return true;
-      } else {
-        lambda *= 4.0;
-      }
-    }
-    if (!improved) break;
-  }
-  return std::isfinite(f);
 }
 
 /// The rotation rate that best explains the image motion with no translation (Gauss–Newton from 0).

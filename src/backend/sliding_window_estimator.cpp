@@ -20,6 +20,7 @@
 #include "asynevo/backend/factors/wnoa_prior_factor.hpp"
 #include "asynevo/backend/initializer.hpp"
 #include "asynevo/backend/multiview_initializer.hpp"
+#include "asynevo/backend/start_trajectory.hpp"
 #include "asynevo/backend/marginalization.hpp"
 #include "asynevo/backend/triangulation.hpp"
 #include "asynevo/core/time.hpp"
@@ -161,16 +162,13 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
     ++stats_.init_rejections[static_cast<int>(motion.rejection)];
     return;
   }
-  // Knots on a grid from t_a, at constant velocity through the start's motion. The monocular scale is fixed
-  // so that the mean speed over the two-view span is 1 map unit per second: map velocities are then
-  // O(1) whatever the scene, and the WNOA Q_c has the same meaning on every sequence (docs/backend.md).
-  const double span_s = durationSeconds(motion.t_a_ns, motion.t_b_ns);
-  const lie::SE3 T_a_b(motion.T_a_b.rotation(), motion.T_a_b.translation() * span_s);
-  const lie::Vec6 w = lie::se3::log(T_a_b) / span_s;
-  Trajectory trajectory;
-  for (int64_t t = motion.t_a_ns; t <= t_ns; t += knot_dt_ns_) {
-    trajectory.add(t, lie::se3::exp(durationSeconds(motion.t_a_ns, t) * w), w);
+  // Knots on a grid from t_a through the start's motion, at the monocular scale of 1 map unit per second
+  // over its span (docs/backend.md), then, optionally, each knot's rotation fitted to the tracks.
+  Trajectory trajectory = constantTwistTrajectory(motion, t_ns, knot_dt_ns_);
+  if (options_.config.init_refine_rotations && trajectory.size() >= 3) {
+    refineStartRotations(trajectory, tracks_, options_.config.init_ransac_px / options_.focal_px);
   }
+  const lie::Vec6 w = trajectory.knots().begin()->second.twist();
   if (trajectory.size() < 3) {
     stats_.init_last_failure = "initialization window shorter than three knots";
     ++stats_.init_rejections[static_cast<int>(InitRejection::Features)];

@@ -3,44 +3,12 @@
 
 #include <gtest/gtest.h>
 
-#include <functional>
-#include <random>
-
 #include "asynevo/backend/initializer.hpp"
 #include "asynevo/lie/se3.hpp"
+#include "window_tracks.hpp"
 
 namespace asynevo::backend {
 namespace {
-
-constexpr double kFocal = 200.0;
-constexpr int64_t kT0 = 1'000'000'000, kT1 = 1'500'000'000;  // a 500 ms window
-
-using PoseAt = std::function<lie::SE3(double)>;  // camera-to-world at t seconds after kT0
-
-/// Points 3–6 m in front of the camera; each is tracked for `life_s` (staggered births), measured
-/// every 10 ms while in a 240×180 image, with Gaussian noise. The track id changes at every rebirth.
-TrackMap tracksOf(const PoseAt& pose, int n_points, double life_s, double noise_px, unsigned seed = 11) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> ux(-2.0, 2.0), uy(-1.5, 1.5), uz(3.0, 6.0), phase(0.0, 1.0);
-  std::normal_distribution<double> gaussian(0.0, noise_px / kFocal);
-  TrackMap tracks;
-  int64_t next_id = 0;
-  for (int i = 0; i < n_points; ++i) {
-    const Eigen::Vector3d p_w(ux(rng), uy(rng), uz(rng));
-    for (double start = -phase(rng) * life_s; start < 0.5; start += life_s) {
-      FeatureTrack track;
-      track.id = next_id++;
-      for (double t = std::max(0.0, start); t < std::min(start + life_s, 0.5 + 1e-9); t += 0.01) {
-        const Eigen::Vector3d p_c = pose(t).inverse() * p_w;
-        const Eigen::Vector2d xn(p_c.x() / p_c.z() + gaussian(rng), p_c.y() / p_c.z() + gaussian(rng));
-        if (p_c.z() < 0.5 || std::abs(xn.x()) > 0.6 || std::abs(xn.y()) > 0.45) break;
-        track.observations.push_back({kT0 + std::llround(t * 1e9), xn});
-      }
-      if (track.observations.size() >= 2) tracks[track.id] = std::move(track);
-    }
-  }
-  return tracks;
-}
 
 BackendConfig config() {
   BackendConfig c;
@@ -53,15 +21,6 @@ BackendConfig config() {
 
 double angleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
-}
-
-/// A camera moving at the constant body twist (v, ω) from the identity.
-PoseAt constantTwist(const Eigen::Vector3d& v, const Eigen::Vector3d& omega) {
-  return [v, omega](double t) {
-    lie::Vec6 xi;
-    xi << v * t, omega * t;
-    return lie::se3::exp(xi);
-  };
 }
 
 TEST(InitializeMultiView, StartsFromShortTracksThatTheTwoViewStartCannotUse) {
