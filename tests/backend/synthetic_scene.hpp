@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -16,6 +17,8 @@ struct SyntheticScene {
   double fx = 200, fy = 200, cx = 120, cy = 90;
   int width = 240, height = 180;
   std::vector<Eigen::Vector3d> landmarks;
+  /// The camera motion measurements() sees; pose() unless a test sets another.
+  std::function<lie::SE3(double)> trajectory = &SyntheticScene::pose;
 
   /// Ground-truth camera-to-world pose at time t (seconds): a gentle 6-DoF wobble while moving sideways.
   static lie::SE3 pose(double t) {
@@ -44,7 +47,7 @@ struct SyntheticScene {
       while (start < duration_s) {
         const int64_t id = next_id++;
         for (double t = start; t < std::min(start + life_s, duration_s); t += dt_s) {
-          const Eigen::Vector3d p_c = pose(t).inverse() * landmarks[j];
+          const Eigen::Vector3d p_c = trajectory(t).inverse() * landmarks[j];
           if (p_c.z() < 0.5) break;
           const double u = fx * p_c.x() / p_c.z() + cx + noise(rng), v = fy * p_c.y() / p_c.z() + cy + noise(rng);
           if (u < 5 || v < 5 || u > width - 6 || v > height - 6) break;
