@@ -163,29 +163,53 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
     return;
   }
   // Knots on a grid from t_a through the start's motion, at the monocular scale of 1 map unit per second
-  // over its span (docs/backend.md), then, optionally, each knot's rotation fitted to the tracks.
+  // over its span (docs/backend.md).
   Trajectory trajectory = constantTwistTrajectory(motion, t_ns, knot_dt_ns_);
-  if (options_.config.init_refine_rotations && trajectory.size() >= 3) {
-    refineStartRotations(trajectory, tracks_, options_.config.init_ransac_px / options_.focal_px);
-  }
-  const lie::Vec6 w = trajectory.knots().begin()->second.twist();
   if (trajectory.size() < 3) {
     stats_.init_last_failure = "initialization window shorter than three knots";
     ++stats_.init_rejections[static_cast<int>(InitRejection::Features)];
     return;
   }
   trajectory_ = std::move(trajectory);
-  for (auto& [id, track] : tracks_) {
-    track.dropBefore(trajectory_.oldestTime());
-    track.triangulated = false;
-    track.observations_at_last_attempt = 0;
+  const auto retriangulate = [this] {
+    for (auto& [id, track] : tracks_) {
+      track.triangulated = false;
+      track.observations_at_last_attempt = 0;
+    }
+    triangulateTracks();
+    int count = 0;
+    for (const auto& [id, track] : tracks_) count += track.triangulated;
+    return count;
+  };
+  for (auto& [id, track] : tracks_) track.dropBefore(trajectory_.oldestTime());
+  int landmarks = retriangulate();
+  // A multi-view start's features need not span the window, so its fit can pass with few of them able
+  // to make a landmark; it must triangulate as many landmarks as the two-view start needs inliers.
+  const int min_landmarks = std::string_view(motion.method) == "multi-view" ? config.init_min_inliers
+                                                                               : config.init_min_inliers / 2;
+  // Too few: the constant-twist knots may be off where the rotation rate changes within the window;
+  // with init_refine_rotations their rotations are refitted to the tracks and the landmarks triangulated
+  // again (docs/method/initialization.md, "First knots").
+  if (landmarks < min_landmarks && options_.config.init_refine_rotations &&
+      refineStartRotations(trajectory_, tracks_, options_.config.init_ransac_px / options_.focal_px).refined > 0) {
+    ++stats_.init_rotation_refits;
+    landmarks = retriangulate();
+  }
+  if (landmarks < min_landmarks) {
+    stats_.init_last_failure = fmt::format("{} pose found ({} inliers) but only {} landmarks triangulated (need {})",
+                                           motion.method, motion.inliers, landmarks, min_landmarks);
+    ++stats_.init_rejections[static_cast<int>(InitRejection::Landmarks)];
+    trajectory_ = Trajectory();
+    anchors_.clear();
+    for (auto& [id, track] : tracks_) track.triangulated = false;
+    return;
   }
   // Gauge (first pose) and scale (first velocity, loosely) anchored by a prior on the first knot.
+  Knot& first = trajectory_.knots().begin()->second;
   gp::Mat12 covariance = gp::Mat12::Zero();
   covariance.diagonal().head<6>().setConstant(1e-8);
-  covariance.diagonal().segment<3>(6).setConstant(std::pow(0.5 * w.head<3>().norm() + 1e-3, 2));
+  covariance.diagonal().segment<3>(6).setConstant(std::pow(0.5 * first.twist().head<3>().norm() + 1e-3, 2));
   covariance.diagonal().tail<3>().setConstant(1.0);
-  Knot& first = trajectory_.knots().begin()->second;
   anchors_.clear();
   anchors_.push_back({FactorEntry{std::make_shared<StatePriorFactor>(first.T_w_c(), first.twist(), covariance),
                                   nullptr, {first.pose.data(), first.velocity.data()}},
@@ -196,23 +220,6 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   anchors_.push_back({FactorEntry{std::make_shared<ScaleAnchorFactor>(baseline, 1e-3 * baseline), nullptr,
                                   {first.pose.data(), far.pose.data()}},
                       {first.t_ns, far.t_ns}});
-
-  triangulateTracks();
-  int landmarks = 0;
-  for (const auto& [id, track] : tracks_) landmarks += track.triangulated;
-  // A multi-view start's features need not span the window, so its fit can pass with few of them able
-  // to make a landmark; it must triangulate as many landmarks as the two-view start needs inliers.
-  const int min_landmarks = std::string_view(motion.method) == "multi-view" ? config.init_min_inliers
-                                                                               : config.init_min_inliers / 2;
-  if (landmarks < min_landmarks) {
-    stats_.init_last_failure = fmt::format("{} pose found ({} inliers) but only {} landmarks triangulated (need {})",
-                                           motion.method, motion.inliers, landmarks, min_landmarks);
-    ++stats_.init_rejections[static_cast<int>(InitRejection::Landmarks)];
-    trajectory_ = Trajectory();
-    anchors_.clear();
-    for (auto& [id, track] : tracks_) track.triangulated = false;
-    return;
-  }
   if (!stats_.initialized) {
     stats_.initialized = true;
     stats_.initialized_at_ns = t_ns;

@@ -14,6 +14,9 @@
 
 namespace asynevo::frontend {
 
+/// The peak-rate budget's window of event time (event_rate_budget.hpp).
+constexpr int64_t kRateWindowNs = 1'000'000;
+
 const char* dropReasonName(DropReason reason) {
   switch (reason) {
     case DropReason::kBorder:
@@ -63,6 +66,8 @@ std::string FrontendStats::summary() const {
   if (dropped_hot_pixel + dropped_noise_filter > 0)
     s += fmt::format("noise filters     {} events of hot pixels, {} without neighbour support dropped\n",
                      dropped_hot_pixel, dropped_noise_filter);
+  if (events_shed + detections_skipped > 0)
+    s += fmt::format("peak-rate budget  {} events shed, {} detections skipped\n", events_shed, detections_skipped);
   s += fmt::format("detector          {} runs, {} candidates, {} corners ({:.0f} corners/s)\n", detector_runs,
                    candidates, corners, perSecond(corners));
   s += fmt::format("trackers          {} in-range updates, {} state changes\n", tracker_updates,
@@ -209,6 +214,8 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
                                                          config.hot_pixel_factor, config.hot_pixel_min_rate_hz);
   if (config.noise_filter)
     noise_filter_ = std::make_unique<BackgroundActivityFilter>(width_, height_, msToNs(config.noise_filter_ms));
+  if (config.max_event_rate_mev_s > 0)
+    rate_budget_ = std::make_unique<EventRateBudget>(config.max_event_rate_mev_s * 1e6, kRateWindowNs);
   if (undistortion_.width() != 0 && (undistortion_.width() != width || undistortion_.height() != height))
     throw Error(fmt::format("frontend: undistortion table is {}x{} but the sensor is {}x{}",
                             undistortion_.width(), undistortion_.height(), width, height));
@@ -299,6 +306,11 @@ void Frontend::process(const Event& raw, MeasurementSink& sink) {
     ++stats_.dropped_noise_filter;
     return;
   }
+  const EventRateBudget::Decision budget = rate_budget_ ? rate_budget_->admit(t) : EventRateBudget::Decision::kFull;
+  if (budget == EventRateBudget::Decision::kShed) {
+    ++stats_.events_shed;
+    return;
+  }
 
   Event e = input;
   e.t_ns = t;
@@ -328,6 +340,10 @@ void Frontend::process(const Event& raw, MeasurementSink& sink) {
     if (slots_[slot].id == id) onStateChange(slot, t, sink);  // may have been dropped by a collision
 
   if (used || stats_.active_features >= config_.max_features) return;
+  if (budget == EventRateBudget::Decision::kTrackOnly) {
+    ++stats_.detections_skipped;
+    return;
+  }
   ++stats_.detector_runs;
   const CornerResult corner = detector_.detect(e, accepted);
   stats_.candidates += corner.candidate ? 1 : 0;

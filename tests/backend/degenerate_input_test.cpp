@@ -40,7 +40,9 @@ TEST(DegenerateInput, EveryFeatureOnOneLine) {
   const auto run = runOn(scene, 3.0);
   expectFinite(run);
   EXPECT_GT(run.stats.init_attempts, 0u);
-  if (!run.stats.initialized) EXPECT_FALSE(run.stats.init_last_failure.empty());
+  if (!run.stats.initialized) {
+    EXPECT_FALSE(run.stats.init_last_failure.empty());
+  }
 }
 
 TEST(DegenerateInput, ACameraThatNeverMovesNeverStartsAndSaysWhy) {

@@ -71,6 +71,42 @@ TEST(Frontend, TracksCornersOfMovingSquaresWithThrottledMeasurements) {
   EXPECT_GE(matched, 2);
 }
 
+// The peak-rate budget (max_event_rate_mev_s): a stream denser than the budget has detections skipped
+// and events shed, all counted; tracking goes on; without a budget nothing is.
+TEST(Frontend, ThePeakRateBudgetCountsWhatItSkipsAndSheds) {
+  const int w = 160, h = 120;
+  const std::vector<MovingSquare> squares = {{30, 30, 30, 120, 40}, {100, 60, 28, -60, 50}};
+  const auto events = simulateSquares(squares, w, h, 0.3);
+  const double rate = static_cast<double>(events.size()) / ((events.back().t_ns - events.front().t_ns) * 1e-9);
+  auto run = [&](double budget_mev_s) {
+    FrontendConfig config;
+    config.max_event_rate_mev_s = budget_mev_s;
+    Frontend fe(config, w, h);
+    MeasurementCollector out;
+    for (const Event& e : events) fe.process(e, out);
+    fe.finish(out);
+    return std::make_pair(fe.stats(), out.measurements.size());
+  };
+  const auto [plain, plain_measurements] = run(0.0);
+  EXPECT_EQ(plain.events_shed, 0u);
+  EXPECT_EQ(plain.detections_skipped, 0u);
+  const auto [budgeted, budgeted_measurements] = run(rate / 4 * 1e-6);
+  EXPECT_EQ(budgeted.events, events.size());
+  EXPECT_GT(budgeted.events_shed, 0u);  // only after a window over twice the budget, not after a gap
+  EXPECT_GT(budgeted.detections_skipped, 0u);
+  EXPECT_LT(budgeted.tracker_updates, plain.tracker_updates);
+  EXPECT_GT(budgeted.features_created, 1u);
+  EXPECT_GT(budgeted_measurements, 20u);
+  FrontendConfig bad;
+  bad.max_event_rate_mev_s = -1;
+  try {
+    bad.validate();
+    FAIL() << "a negative budget must be rejected";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("frontend.max_event_rate_mev_s"), std::string::npos) << e.what();
+  }
+}
+
 // Binning (FrontendConfig::binning): the auto rule, and a 2x2-binned frontend on a scene of twice the
 // size tracks like the plain one on the scene itself, with its measurements in sensor pixels.
 TEST(Frontend, BinningFollowsTheSensorSizeAndReportsSensorPixels) {

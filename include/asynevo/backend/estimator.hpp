@@ -49,6 +49,8 @@ struct EstimatorStats {
   std::string init_last_failure;  ///< why the last initialization attempt failed (with counts)
   /// Failed attempts by the furthest check they reached (indexed by InitRejection; see rejectionName).
   std::array<uint64_t, kInitRejections> init_rejections{};
+  /// Attempts whose knots were refitted (init_refine_rotations) after too few landmarks triangulated.
+  uint64_t init_rotation_refits = 0;
   /// The two views the estimator started from (valid once initialized).
   struct InitViews {
     std::string method;      ///< "two-view" or "multi-view"

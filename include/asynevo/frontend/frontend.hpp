@@ -29,6 +29,7 @@
 #include "asynevo/core/event.hpp"
 #include "asynevo/frontend/corner_detector.hpp"
 #include "asynevo/frontend/event_filter.hpp"
+#include "asynevo/frontend/event_rate_budget.hpp"
 #include "asynevo/frontend/haste_tracker.hpp"
 #include "asynevo/frontend/sae.hpp"
 #include "asynevo/frontend/track_measurement.hpp"
@@ -82,6 +83,8 @@ struct FrontendStats {
   uint64_t clamped_time = 0;           ///< slightly earlier: processed at the newest time
   uint64_t dropped_hot_pixel = 0;      ///< from a pixel the hot-pixel filter masked
   uint64_t dropped_noise_filter = 0;   ///< without support in the background-activity filter
+  uint64_t events_shed = 0;            ///< shed by the peak-rate budget (max_event_rate_mev_s)
+  uint64_t detections_skipped = 0;     ///< events over the budget that would have reached the detector
   uint64_t filter_accepted = 0;        ///< passed the refractory filter
   uint64_t detector_runs = 0;          ///< events that reached the corner detector
   uint64_t candidates = 0;             ///< Arc* candidates among them
@@ -250,6 +253,7 @@ class Frontend {
   UndistortionTable<float> undistortion_;
   std::unique_ptr<HotPixelFilter> hot_pixel_filter_;        ///< null when off
   std::unique_ptr<BackgroundActivityFilter> noise_filter_;  ///< null when off
+  std::unique_ptr<EventRateBudget> rate_budget_;           ///< null when off
   SurfaceOfActiveEvents sae_;
   CornerDetector detector_;
   std::vector<int64_t> registration_;  ///< W x H feature ids, -1 = empty

@@ -32,6 +32,7 @@ void InputConfig::validate() const {
 void FrontendConfig::validate() const {
   requireRange("frontend.noise_filter_ms", noise_filter_ms, 0.001, 1e4);
   requireRange("frontend.hot_pixel_window_ms", hot_pixel_window_ms, 1.0, 1e6);
+  requireRange("frontend.max_event_rate_mev_s", max_event_rate_mev_s, 0.0, 1e4);
   requireRange("frontend.hot_pixel_factor", hot_pixel_factor, 1.0, 1e6);
   requireRange("frontend.hot_pixel_min_rate_hz", hot_pixel_min_rate_hz, 0.0, 1e7);
   requireRange("frontend.refractory_period_ms", refractory_period_ms, 0.0, 1e6);

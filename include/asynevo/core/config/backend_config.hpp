@@ -68,8 +68,8 @@ struct BackendConfig {
   /// fitted to every track of the window) or "both" (two-view first; once the counts are relaxed,
   /// multi-view when it fails).
   std::string init_method = "both";
-  /// Refit each first knot's rotation to the tracks instead of keeping the start's constant twist
-  /// (backend/start_trajectory.hpp).
+  /// When a start triangulates too few landmarks from its constant-twist knots, refit the knots'
+  /// rotations to the tracks and triangulate again (backend/start_trajectory.hpp).
   bool init_refine_rotations = false;
 
   // --- tracking loss (docs/method/tracking_loss.md): the segment ends, the estimator starts again ---
@@ -121,7 +121,7 @@ struct BackendConfig {
       "initialization: factor on init_min_features and init_min_inliers once relaxed (1 = never relax)");
     v("init_method", init_method, "initialization: two-view, multi-view or both (two-view first, multi-view once relaxed)");
     v("init_refine_rotations", init_refine_rotations,
-      "initialization: fit each first knot's rotation to the tracks instead of the start's constant twist");
+      "initialization: refit the first knots' rotations to the tracks when too few landmarks triangulate");
     v("loss_max_event_gap_ms", loss_max_event_gap_ms,
       "tracking loss: a gap in the events longer than this ends the segment [ms] (0 = off)");
     v("loss_min_landmarks", loss_min_landmarks, "tracking loss: fewer landmarks in the window is unsupported");

@@ -18,6 +18,9 @@ struct FrontendConfig {
   double hot_pixel_window_ms = 1000.0;  ///< ...counted over windows of this much event time
   double hot_pixel_factor = 10.0;       ///< ...hot: count > factor x (mean count of the 8 neighbours + 1)
   double hot_pixel_min_rate_hz = 20.0;  ///< ...and at least this rate
+  /// Peak-rate budget (frontend/event_rate_budget.hpp): events per second of event time processed in
+  /// full, in millions; above it detection is skipped, above twice it events are shed. 0 = off.
+  double max_event_rate_mev_s = 0.0;
 
   /// Events are binned b x b (pixel (x, y) -> (x / b, y / b)) before anything else, so the frontend works
   /// on a smaller image: 1, 2, 4 or 8; 0 = auto, the smallest power of two that brings the sensor's
@@ -83,6 +86,9 @@ struct FrontendConfig {
     v("hot_pixel_window_ms", hot_pixel_window_ms, "hot-pixel filter: counting window of event time (ms, > 0)");
     v("hot_pixel_factor", hot_pixel_factor, "hot-pixel filter: how far above its neighbours a hot pixel fires");
     v("hot_pixel_min_rate_hz", hot_pixel_min_rate_hz, "hot-pixel filter: the least rate of a hot pixel (Hz)");
+    v("max_event_rate_mev_s", max_event_rate_mev_s,
+      "peak-rate budget [M events/s of event time]: above it, per 1 ms window, no corner detection; above "
+      "twice it, events are shed evenly before the SAE and the trackers (counted); 0 = off");
     v("binning", binning,
       "bin events b x b before the frontend (1, 2, 4, 8; 0 = auto: the sensor's longer side to <= 400 px); "
       "pixel settings are then in binned pixels");
