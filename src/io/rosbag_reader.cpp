@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <string_view>
 
 #include "asynevo/core/error.hpp"
 
@@ -203,10 +204,9 @@ RosbagReader::RosbagReader(const std::string& path, const ReaderOptions& options
       checker_ = EventChecker(info_.width, info_.height, options_.max_time_reversal_ns, info_.size_origin, false);
     }
     size_known_ = true;
-  } else if (configured) {
-    info_.width = options_.width;
-    info_.height = options_.height;
-    info_.size_origin = options_.size_origin;
+  } else {
+    // No message states a size, and no event will be delivered.
+    throw InputError(path, "the event topic " + topic_ + " has no messages: the file holds no events");
   }
 }
 
@@ -335,6 +335,11 @@ void RosbagReader::readIndex() {
     chunks_.push_back(std::move(chunk));
   }
   std::stable_sort(chunks_.begin(), chunks_.end(), [](const BagChunk& a, const BagChunk& b) { return a.pos < b.pos; });
+  for (std::size_t i = 1; i < chunks_.size(); ++i) {
+    if (chunks_[i].pos == chunks_[i - 1].pos) {
+      failAt(index_pos_, fmt::format("corrupt index: two chunk info records for the chunk at byte {}", chunks_[i].pos));
+    }
+  }
 }
 
 void RosbagReader::chooseTopic() {

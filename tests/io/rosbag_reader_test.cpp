@@ -257,6 +257,13 @@ TEST(RosbagReader, TopicChoice) {
       << errorOf(none);
 }
 
+TEST(RosbagReader, AnEventTopicWithoutMessagesHoldsNoEvents) {
+  TempDir dir;
+  const std::string path =
+      dir.write("empty_topic.bag", bag::buildBag({kDvs, kImu}, {bag::Chunk{{imuMessage(0), imuMessage(1)}}}));
+  EXPECT_EQ(errorOf(path), path + ": the event topic /dvs/events has no messages: the file holds no events");
+}
+
 // ---------------------------------------------------------------------------------------------------
 // Bad input: every case an InputError naming the file, with the byte offset and the message index.
 
@@ -317,6 +324,17 @@ TEST(RosbagBadInput, CorruptChunks) {
     const std::string bytes = dvsBag([](const std::string& in) { return in; }, "zip");
     const std::string path = dir.write("zip.bag", bytes);
     EXPECT_EQ(errorOf(path), at(path, chunk_pos) + "chunk compression 'zip' is not one of none, bz2, lz4");
+  }
+  // Two chunk info records for one chunk (its events would be read twice).
+  {
+    std::string bytes = good;
+    const std::size_t first = bytes.rfind(bag::u64(chunk_pos));
+    const std::size_t second = bytes.find("chunk_pos=", first + 8) + 10;
+    ASSERT_NE(second, std::string::npos + 10);
+    bytes.replace(second, 8, bag::u64(chunk_pos));
+    const std::string path = dir.write("twice.bag", bytes);
+    EXPECT_NE(errorOf(path).find("corrupt index: two chunk info records for the chunk at byte 4109"), std::string::npos)
+        << errorOf(path);
   }
   // A chunk info pointing into the middle of a record.
   {
