@@ -477,40 +477,70 @@ bool RosbagReader::loadNextChunk() {
   } else if (f.compression == "lz4" || f.compression == "bz2") {
     compressed_.resize(data_len);
     readAt(chunk_data_pos_, compressed_.data(), data_len);
-    chunk_.resize(f.size);
-    if (f.compression == "bz2") {
-      unsigned int out_len = f.size;
-      const int rc = BZ2_bzBuffToBuffDecompress(reinterpret_cast<char*>(chunk_.data()), &out_len,
-                                                reinterpret_cast<char*>(compressed_.data()), data_len, 0, 0);
-      if (rc != BZ_OK || out_len != f.size) {
-        failAt(chunk_pos_, fmt::format("corrupt bz2 chunk: {}", rc != BZ_OK ? fmt::format("libbz2 error {}", rc)
-                                                                           : fmt::format("{} bytes instead of {}",
-                                                                                         out_len, f.size)));
+    // The output grows with what actually decompresses (up to the stated size), so a corrupt size
+    // field cannot make the reader allocate hundreds of MiB for a few bytes of input.
+    std::size_t out_pos = 0;
+    auto room = [&]() {
+      if (out_pos == chunk_.size()) {
+        const std::size_t grown = std::max<std::size_t>(chunk_.size() * 2, std::size_t{1} << 16);
+        chunk_.resize(std::min<std::size_t>(grown, f.size));
       }
+      return chunk_.size() - out_pos;
+    };
+    chunk_.resize(std::min<std::size_t>(f.size, std::max<std::size_t>(chunk_.capacity(), std::size_t{4} * data_len)));
+    std::string failure;
+    if (f.compression == "bz2") {
+      bz_stream stream{};
+      if (BZ2_bzDecompressInit(&stream, 0, 0) != BZ_OK) throw std::bad_alloc();
+      stream.next_in = reinterpret_cast<char*>(compressed_.data());
+      stream.avail_in = data_len;
+      for (;;) {
+        const std::size_t free = room();
+        if (free == 0) {
+          failure = "it decompresses to more than the chunk's stated size";
+          break;
+        }
+        stream.next_out = reinterpret_cast<char*>(chunk_.data() + out_pos);
+        stream.avail_out = static_cast<unsigned int>(std::min<std::size_t>(free, 1u << 30));
+        const unsigned int before = stream.avail_out;
+        const int rc = BZ2_bzDecompress(&stream);
+        out_pos += before - stream.avail_out;
+        if (rc == BZ_STREAM_END) break;
+        if (rc != BZ_OK) {
+          failure = fmt::format("libbz2 failure {}", rc);
+          break;
+        }
+        if (stream.avail_in == 0 && stream.avail_out > 0) {
+          failure = "the bz2 stream is cut off";
+          break;
+        }
+      }
+      BZ2_bzDecompressEnd(&stream);
     } else {
       LZ4F_dctx* ctx = nullptr;
       if (LZ4F_isError(LZ4F_createDecompressionContext(&ctx, LZ4F_VERSION))) throw std::bad_alloc();
-      std::size_t in_pos = 0, out_pos = 0, hint = 1;
-      std::string lz4_error;
+      std::size_t in_pos = 0, hint = 1;
       while (in_pos < data_len && hint != 0) {
-        std::size_t src = data_len - in_pos, dst = chunk_.size() - out_pos;
+        const std::size_t free = room();
+        if (free == 0) {
+          failure = "it decompresses to more than the chunk's stated size";
+          break;
+        }
+        std::size_t src = data_len - in_pos, dst = free;
         hint = LZ4F_decompress(ctx, chunk_.data() + out_pos, &dst, compressed_.data() + in_pos, &src, nullptr);
         if (LZ4F_isError(hint)) {
-          lz4_error = LZ4F_getErrorName(hint);
+          failure = LZ4F_getErrorName(hint);
           break;
         }
         in_pos += src;
         out_pos += dst;
-        if (src == 0 && dst == 0) {  // no progress: the output is full but the frame goes on
-          lz4_error = "the frame holds more than the chunk's stated size";
-          break;
-        }
       }
       LZ4F_freeDecompressionContext(ctx);
-      if (lz4_error.empty() && hint != 0) lz4_error = "the frame is cut off";
-      if (lz4_error.empty() && out_pos != f.size) lz4_error = fmt::format("{} bytes instead of {}", out_pos, f.size);
-      if (!lz4_error.empty()) failAt(chunk_pos_, "corrupt lz4 chunk: " + lz4_error);
+      if (failure.empty() && hint != 0) failure = "the frame is cut off";
     }
+    if (failure.empty() && out_pos != f.size) failure = fmt::format("{} bytes instead of the stated {}", out_pos, f.size);
+    if (!failure.empty()) failAt(chunk_pos_, "corrupt " + f.compression + " chunk: " + failure);
+    chunk_.resize(out_pos);
   } else {
     failAt(chunk_pos_, "chunk compression '" + f.compression + "' is not one of none, bz2, lz4");
   }

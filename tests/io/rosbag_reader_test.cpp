@@ -319,6 +319,20 @@ TEST(RosbagBadInput, CorruptChunks) {
     const std::string path = dir.write(kind + ".bag", bytes);
     EXPECT_EQ(errorOf(path).rfind(at(path, chunk_pos) + "corrupt " + kind + " chunk: ", 0), 0u) << errorOf(path);
   }
+  // A stated uncompressed size far above (or below) what the chunk holds: reported, and no buffer of the
+  // stated size is allocated up front.
+  for (const std::string kind : {"lz4", "bz2"}) {
+    std::string bytes = kind == "lz4" ? dvsBag(lz4, "lz4") : dvsBag(bz2, "bz2");
+    const std::size_t size_field = bytes.find("size=", chunk_pos) + 5;
+    bytes.replace(size_field, 4, bag::u32(200u << 20));
+    const std::string big = dir.write(kind + "_big.bag", bytes);
+    EXPECT_NE(errorOf(big).find("corrupt " + kind + " chunk: "), std::string::npos) << errorOf(big);
+    EXPECT_NE(errorOf(big).find("bytes instead of the stated 209715200"), std::string::npos) << errorOf(big);
+    bytes.replace(size_field, 4, bag::u32(100));
+    const std::string small = dir.write(kind + "_small.bag", bytes);
+    EXPECT_EQ(errorOf(small), at(small, chunk_pos) + "corrupt " + kind + " chunk: it decompresses to more than the "
+                                                      "chunk's stated size");
+  }
   // An unknown compression.
   {
     const std::string bytes = dvsBag([](const std::string& in) { return in; }, "zip");
