@@ -41,6 +41,11 @@ constexpr const char* kEventPacket = "event_camera_msgs/EventPacket";
 // files: dvs_msgs/Event "uint16 x, uint16 y, time ts, bool polarity").
 constexpr const char* kEventArrayMd5 = "5e8beee5a6c107e504c2e78903c224b8";
 constexpr const char* kEventPacketMd5 = "8a6101b351a64529ac77bd8b71074e52";
+// rpg_dvs_ros's dvs_msgs from September 2014 to October 2015: EventArray was only "Event[] events" (no
+// header, no size) and Event "uint16 x, uint16 y, uint64 time, bool polarity", the time in µs of the
+// DVS128's clock, the only camera its driver then supported.
+constexpr const char* kEventArray2014Md5 = "d2e726b2040dbc135644f4709c150a10";
+constexpr int kDvs128Size = 128;
 constexpr std::size_t kDvsEventBytes = 13;  // u16 x, u16 y, u32 sec, u32 nsec, u8 polarity
 constexpr int kEvtLimit = 2048;             // EVT 2.0/3.0 hold 11-bit x and y
 
@@ -182,7 +187,20 @@ RosbagReader::RosbagReader(const std::string& path, const ReaderOptions& options
 
   // The sensor size comes from the messages: the first message of the topic states it.
   const bool configured = options_.width > 0 && options_.height > 0;
-  if (nextMessage()) {
+  if (kind_ == Kind::kEventArray2014) {
+    // This revision's messages state no size: the configured one, else the DVS128's.
+    if (configured) {
+      info_.width = options_.width;
+      info_.height = options_.height;
+      info_.size_origin = options_.size_origin;
+    } else {
+      info_.width = info_.height = kDvs128Size;
+      info_.size_origin = "the DVS128 default (the 2014-15 dvs_msgs/EventArray states no size)";
+    }
+    checker_ = EventChecker(info_.width, info_.height, options_.max_time_reversal_ns, info_.size_origin, true);
+    if (!nextMessage())
+      throw InputError(path, "the event topic " + topic_ + " has no messages: the file holds no events");
+  } else if (nextMessage()) {
     if (msg_width_ == 0 && msg_height_ == 0 && configured) {
       info_.width = options_.width;
       info_.height = options_.height;
@@ -405,14 +423,17 @@ void RosbagReader::chooseTopic() {
     chosen = event_topics.front();
   }
   const char* expected = chosen->type == kEventArray ? kEventArrayMd5 : kEventPacketMd5;
-  if (chosen->md5sum != expected) {
+  const bool revision_2014 = chosen->type == kEventArray && chosen->md5sum == kEventArray2014Md5;
+  if (chosen->md5sum != expected && !revision_2014) {
     failAt(index_pos_, fmt::format("topic {} has a revision of {} with MD5 sum '{}'; AsynEVO reads the revision with MD5 "
-                                   "sum {} (docs/reference/formats_rosbag.md)",
-                                   chosen->name, chosen->type, chosen->md5sum, expected));
+                                   "sum {}{} (docs/reference/formats_rosbag.md)",
+                                   chosen->name, chosen->type, chosen->md5sum, expected,
+                                   chosen->type == kEventArray ? std::string(" or the 2014-15 one, ") + kEventArray2014Md5
+                                                               : std::string()));
   }
   topic_ = chosen->name;
   selected_ = chosen->ids;
-  kind_ = chosen->type == kEventArray ? Kind::kEventArray : Kind::kEventPacket;
+  kind_ = revision_2014 ? Kind::kEventArray2014 : chosen->type == kEventArray ? Kind::kEventArray : Kind::kEventPacket;
   for (std::size_t i = 0; i < topics.size(); ++i) {
     ContainerStream s;
     s.id = static_cast<int>(i);
@@ -457,6 +478,10 @@ bool RosbagReader::loadNextChunk() {
   readAt(chunk_pos_ + 4 + header_len, len, 4);
   const uint32_t data_len = load32(len);
   chunk_data_pos_ = chunk_pos_ + 8 + header_len;
+  if (data_len > file_size_ - chunk_data_pos_) {  // checked before any buffer of that size is allocated
+    failAt(chunk_pos_, fmt::format("truncated or corrupt chunk: its {} bytes of data run past the end of the file ({} "
+                                   "bytes)", data_len, file_size_));
+  }
   RecordFields f;
   const std::string error = parseRecordFields(header.data(), header.size(), f);
   if (!error.empty()) failAt(chunk_pos_, "corrupt chunk: " + error);
@@ -598,6 +623,19 @@ bool RosbagReader::nextMessage() {
 
 void RosbagReader::parseMessage(const unsigned char* data, std::size_t size) {
   MessageCursor m(data, size);
+  if (kind_ == Kind::kEventArray2014) {  // Event[] events only
+    if (!m.need(4, "the events array length", error_)) failInMessage(error_);
+    const uint32_t count = m.u32();
+    if (uint64_t{count} * kDvsEventBytes != m.left()) {
+      failInMessage(fmt::format("malformed message: {} events of {} bytes need {} bytes, the message has {} left after "
+                                "the array length",
+                                count, kDvsEventBytes, uint64_t{count} * kDvsEventBytes, m.left()));
+    }
+    events_ = m.here();
+    events_size_ = count;
+    events_pos_ = 0;
+    return;
+  }
   // std_msgs/Header: u32 seq, time stamp, string frame_id
   if (!m.need(16, "the header", error_)) failInMessage(error_);
   m.skip(12);
@@ -607,7 +645,7 @@ void RosbagReader::parseMessage(const unsigned char* data, std::size_t size) {
   if (!m.need(8, "height and width", error_)) failInMessage(error_);
   const uint32_t height = m.u32();
   const uint32_t width = m.u32();
-  const uint32_t limit = kind_ == Kind::kEventArray ? 65535 : kEvtLimit;
+  const uint32_t limit = kind_ == Kind::kEventPacket ? kEvtLimit : 65535;
   if (width > limit || height > limit)
     failInMessage(fmt::format("the message states a {}x{} sensor, beyond {} pixels", width, height, limit));
   if (size_known_ && (static_cast<int>(width) != msg_width_ || static_cast<int>(height) != msg_height_)) {
@@ -665,6 +703,19 @@ void RosbagReader::parseMessage(const unsigned char* data, std::size_t size) {
 }
 
 std::size_t RosbagReader::decodeMessage(Event* out, std::size_t n, std::size_t capacity) {
+  if (kind_ == Kind::kEventArray2014) {
+    const std::size_t take = std::min(capacity - n, events_size_ - events_pos_);
+    const unsigned char* p = events_ + events_pos_ * kDvsEventBytes;
+    for (std::size_t i = 0; i < take; ++i, p += kDvsEventBytes) {
+      const uint64_t t_us = load64(p + 4);
+      if (t_us > static_cast<uint64_t>(INT64_MAX) / 1000)
+        failInMessage(fmt::format("event {}: time {} µs is out of range", events_pos_ + i, t_us));
+      if (!checker_.accept(static_cast<int64_t>(t_us) * 1000, load16(p), load16(p + 2), p[12], out[n + i], error_))
+        failInMessage(fmt::format("event {}: {}", events_pos_ + i, error_));
+    }
+    events_pos_ += take;
+    return n + take;
+  }
   if (kind_ == Kind::kEventArray) {
     const std::size_t take = std::min(capacity - n, events_size_ - events_pos_);
     const unsigned char* p = events_ + events_pos_ * kDvsEventBytes;

@@ -50,7 +50,7 @@ class RosbagReader final : public EventReader {
   const ReaderStats& stats() const override { return stats_; }
 
  private:
-  enum class Kind { kEventArray, kEventPacket };
+  enum class Kind { kEventArray, kEventArray2014, kEventPacket };
   enum class Encoding { kNone, kEvt3, kEvt2 };
 
   void readIndex();

@@ -63,6 +63,15 @@ inline std::string eventArray(uint32_t width, uint32_t height, const std::vector
   return m;
 }
 
+/// dvs_msgs/EventArray as rpg_dvs_ros defined it from September 2014 to October 2015: Event[] events only,
+/// each event u16 x, u16 y, u64 time (µs), bool polarity.
+const std::string kEventArray2014Md5 = "d2e726b2040dbc135644f4709c150a10";
+inline std::string eventArray2014(const std::vector<DvsEvent>& events) {
+  std::string m = u32(static_cast<uint32_t>(events.size()));
+  for (const DvsEvent& e : events) m += u16(e.x) + u16(e.y) + u64(e.t_ns / 1000) + u8(e.on ? 1 : 0);
+  return m;
+}
+
 /// event_camera_msgs/EventPacket: header, u32 height, u32 width, u64 seq, u64 time_base, string encoding,
 /// bool is_bigendian, uint8[] events.
 inline std::string eventPacket(uint32_t width, uint32_t height, const std::string& encoding, const std::string& payload,

@@ -227,6 +227,37 @@ TEST(RosbagReader, EventPacketEvt2Payloads) {
   EXPECT_EQ(readAllEvents(path), std::vector<Event>{ev((2 << 6) | 3, 5, 6, 1)});
 }
 
+TEST(RosbagReader, ReadsThe2014RevisionOfEventArray) {
+  // rpg_dvs_ros's dvs_msgs of 2014-15: no header, no size, time as u64 µs; the DVS128's 128x128 unless set.
+  const bag::Connection old{0, "/dvs/events", bag::kEventArrayType, bag::kEventArray2014Md5,
+                            "Event[] events\n====\nMSG: dvs_msgs/Event\nuint16 x\nuint16 y\nuint64 time\nbool polarity\n"};
+  std::vector<bag::DvsEvent> events;
+  for (int i = 0; i < 20; ++i) events.push_back({uint16_t(i * 6), uint16_t(127 - i), 5'000'000ull + i * 7000ull, i % 3 == 0});
+  const std::vector<bag::DvsEvent> first(events.begin(), events.begin() + 8), rest(events.begin() + 8, events.end());
+  TempDir dir;
+  const std::string path = dir.write(
+      "old.bag", bag::buildBag({old}, {bag::Chunk{{{0, kT0, bag::eventArray2014(first)}, {0, kT0, bag::eventArray2014(rest)}}}}));
+  auto reader = openEventReader(path);
+  EXPECT_EQ(reader->info().width, 128);
+  EXPECT_EQ(reader->info().height, 128);
+  const std::vector<Event> got = readAllEvents(path);
+  ASSERT_EQ(got.size(), 20u);
+  for (int i = 0; i < 20; ++i) EXPECT_EQ(got[i], ev(5000 + i * 7, i * 6, 127 - i, i % 3 == 0 ? 1 : -1)) << i;
+  // Another size may be set (the DAVIS240 was used with this revision too); a pixel outside it names the how-to.
+  ReaderOptions davis;
+  davis.width = 240;
+  davis.height = 180;
+  davis.size_origin = "--sensor";
+  EXPECT_EQ(openEventReader(path, davis)->info().width, 240);
+  events[3].x = 128;
+  const std::string outside = dir.write("outside.bag", bag::buildBag({old}, {bag::Chunk{{{0, kT0, bag::eventArray2014(events)}}}}));
+  const std::string message = errorOf(outside);
+  EXPECT_NE(message.find("message 0 of topic /dvs/events: event 3: pixel (128, 124) is outside the 128x128 sensor (size "
+                         "from the DVS128 default (the 2014-15 dvs_msgs/EventArray states no size)); set the sensor size"),
+            std::string::npos)
+      << message;
+}
+
 TEST(RosbagReader, TopicChoice) {
   TempDir dir;
   bag::Chunk chunk{{dvsMessage(0, 10), dvsMessage(1000, 5, 2), imuMessage(0)}};
