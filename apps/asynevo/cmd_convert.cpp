@@ -24,6 +24,7 @@ struct ConvertOptions {
   std::string format = "auto";
   std::string config;
   std::string sensor;
+  std::string topic;
   std::string out;
 };
 
@@ -32,7 +33,7 @@ void runConvert(const ConvertOptions& options) {
   const DatasetFiles files = resolveDataset(options.dataset, options.format);
   std::vector<std::string> notes;
   const ReaderOptions reader_options =
-      datasetReaderOptions(files, config, {options.format, options.sensor, "", options.config}, &notes);
+      datasetReaderOptions(files, config, {options.format, options.sensor, "", options.config, options.topic}, &notes);
   for (const std::string& note : notes) fmt::print("note: {}\n", note);
   auto reader = openEventReader(files.events, reader_options);
   const std::string partial = options.out + ".partial";  // never leave a truncated file under the real name
@@ -64,9 +65,10 @@ void addConvertCommand(CLI::App& app) {
   static ConvertOptions options;  // CLI11 binds options to stable addresses; one parse per process
   auto* cmd = app.add_subcommand("convert", "Convert an event file to AsynEVO's fast binary format (.aevt)");
   cmd->add_option("--dataset", options.dataset, "ECD-style folder or event file")->required();
-  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4)");
+  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag)");
   cmd->add_option("--config", options.config, "configuration YAML (sensor size, time tolerance)");
   addSensorOption(cmd, options.sensor);
+  addTopicOption(cmd, options.topic);
   cmd->add_option("--out", options.out, "output .aevt file (in a dataset folder: events.aevt)")->required();
   cmd->callback([] { runConvert(options); });
 }

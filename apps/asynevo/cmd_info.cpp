@@ -27,6 +27,7 @@ struct InfoOptions {
   std::string format = "auto";
   std::string config;
   std::string sensor;
+  std::string topic;
 };
 
 // The streams of a container file (AEDAT 4.0), one line each: id, type, name, size, packets, elements.
@@ -49,12 +50,26 @@ void printContainerStreams(const std::vector<ContainerStream>& streams) {
   }
 }
 
+// The topics of a ROS bag, one line each: topic, message type, messages; the event topic read is marked.
+void printBagTopics(const std::vector<ContainerStream>& topics) {
+  const char* label = "topics        ";
+  for (const ContainerStream& t : topics) {
+    std::string line = fmt::format("{}{}  {}  {} messages", label, t.name, t.type, t.packets);
+    if (t.delivered) line += fmt::format(" (events read from here: {} events)", t.elements);
+    fmt::print("{}\n", line);
+    label = "              ";
+  }
+  for (const ContainerStream& t : topics) {
+    if (t.delivered) fmt::print("event topic   {}\n", t.name);
+  }
+}
+
 void runInfo(const InfoOptions& options) {
   const Config config = options.config.empty() ? Config() : loadConfig(options.config);
   const DatasetFiles files = resolveDataset(options.dataset, options.format);
   std::vector<std::string> notes;
   const ReaderOptions reader_options =
-      datasetReaderOptions(files, config, {options.format, options.sensor, "", options.config}, &notes);
+      datasetReaderOptions(files, config, {options.format, options.sensor, "", options.config, options.topic}, &notes);
   auto reader = openEventReader(files.events, reader_options);
   Progress progress;
   int64_t first_t_ns = 0;
@@ -88,7 +103,11 @@ void runInfo(const InfoOptions& options) {
     fmt::print("triggers      {} external-trigger events (counted, not used)\n", reader->stats().trigger_events);
   if (reader->stats().imu_samples > 0)
     fmt::print("imu           {} samples (counted, not used)\n", reader->stats().imu_samples);
-  printContainerStreams(reader->stats().streams);
+  if (info.format == "rosbag") {
+    printBagTopics(reader->stats().streams);
+  } else {
+    printContainerStreams(reader->stats().streams);
+  }
   if (reader->stats().ignored_words > 0) {
     fmt::print("skipped       {} encoded words (vendor extension words, events before the first time base)\n",
                reader->stats().ignored_words);
@@ -123,9 +142,10 @@ void addInfoCommand(CLI::App& app) {
   static InfoOptions options;  // CLI11 binds options to stable addresses; one parse per process
   auto* cmd = app.add_subcommand("info", "Describe a dataset: format, sensor, event count, time span, rates");
   cmd->add_option("--dataset", options.dataset, "ECD-style folder or event file")->required();
-  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4)");
+  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag)");
   cmd->add_option("--config", options.config, "configuration YAML (sensor size, time tolerance)");
   addSensorOption(cmd, options.sensor);
+  addTopicOption(cmd, options.topic);
   cmd->callback([] { runInfo(options); });
 }
 

@@ -38,6 +38,7 @@ struct TrackOptions {
   std::string config;
   std::string calib;
   std::string sensor;
+  std::string topic;
   bool eval = false;
 };
 
@@ -114,7 +115,7 @@ void runTrack(const TrackOptions& options) {
   }
   std::vector<std::string> notes;
   const ReaderOptions reader_options = datasetReaderOptions(
-      files, config, {options.format, options.sensor, options.calib, options.config}, &notes);
+      files, config, {options.format, options.sensor, options.calib, options.config, options.topic}, &notes);
   for (const std::string& note : notes) fmt::print("note: {}\n", note);
   auto reader = openEventReader(files.events, reader_options);
   const int width = reader->info().width, height = reader->info().height;
@@ -157,10 +158,11 @@ void addTrackCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("track", "Run the frontend only and write feature tracks");
   cmd->add_option("--dataset", options.dataset, "ECD-style folder or event file")->required();
   cmd->add_option("--out", options.out, "tracks file (id t x y)")->required();
-  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4)");
+  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag)");
   cmd->add_option("--config", options.config, "configuration YAML (frontend section, sensor size)");
   cmd->add_option("--calib", options.calib, "calibration file (default: the dataset's calib.txt, if any)");
   addSensorOption(cmd, options.sensor);
+  addTopicOption(cmd, options.topic);
   cmd->add_flag("--eval", options.eval,
                 "simulated datasets ('asynevo simulate' folders): compare every track with its exact ground "
                 "truth and print the errors");

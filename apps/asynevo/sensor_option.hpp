@@ -24,4 +24,12 @@ inline CLI::Option* addSensorOption(CLI::App* cmd, std::string& value) {
       ->check(size_check);
 }
 
+/// The --topic NAME option of the same commands: which event topic of a ROS bag to read (needed only when
+/// the bag has more than one).
+inline CLI::Option* addTopicOption(CLI::App* cmd, std::string& value) {
+  return cmd->add_option("--topic", value,
+                         "ROS bag: the event topic to read (dvs_msgs/EventArray or event_camera_msgs/EventPacket); "
+                         "needed only when the bag has several");
+}
+
 }  // namespace asynevo::cli

@@ -10,6 +10,7 @@ ReaderOptions datasetReaderOptions(const DatasetFiles& files, const Config& conf
                                    const DatasetReadSettings& settings, std::vector<std::string>* notes) {
   ReaderOptions options;
   options.format = settings.format;
+  options.topic = settings.topic;
   options.packet_size = config.input.packet_size;
   options.max_time_reversal_ns = std::llround(config.input.max_time_reversal_us * 1e3);
   SensorSizeSources sources;

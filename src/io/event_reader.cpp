@@ -13,6 +13,7 @@
 #include "event_file_reader.hpp"
 #include "mvsec_reader.hpp"
 #include "prophesee_reader.hpp"
+#include "rosbag_reader.hpp"
 
 namespace asynevo {
 
@@ -31,6 +32,15 @@ std::string detectFormat(const std::string& path) {
   if (n >= 8 && std::memcmp(head, kHdf5Signature, 8) == 0) return "mvsec";
   if (n >= 8 && std::memcmp(head, kEventFileMagic, 8) == 0) return "aevt";
   if (n >= aedat4::kMagicBytes && std::memcmp(head, aedat4::kMagic, aedat4::kMagicBytes) == 0) return "aedat4";
+  if (n >= io_detail::kRosbagMagicBytes &&
+      std::memcmp(head, io_detail::kRosbagMagic, io_detail::kRosbagMagicBytes) == 0)
+    return "rosbag";
+  if (n >= 9 && std::memcmp(head, "#ROSBAG V", 9) == 0) {
+    const auto line = std::string(reinterpret_cast<const char*>(head), n);
+    throw InputError::atByte(path, 0,
+                             "the version line '" + line.substr(0, line.find_first_of("\r\n")) +
+                                 "' names a bag format AsynEVO does not read (only '#ROSBAG V2.0')");
+  }
   const std::size_t prefix = sizeof(aedat4::kVersionPrefix) - 1;
   if (n >= prefix && std::memcmp(head, aedat4::kVersionPrefix, prefix) == 0) {  // AEDAT 2.0 or 3.x
     const auto line = std::string(reinterpret_cast<const char*>(head), n);
@@ -51,7 +61,7 @@ std::string detectFormat(const std::string& path) {
   if (std::memchr(head, '\0', n) != nullptr) {
     throw InputError(path,
                      "unknown binary format (supported: ECD text, MVSEC HDF5, AsynEVO .aevt, Prophesee RAW EVT 3.0 "
-                     "and EVT 2.0, Prophesee DAT, AEDAT 4.0; a RAW or DAT file without its '%' header needs --format evt3, "
+                     "and EVT 2.0, Prophesee DAT, AEDAT 4.0, ROS bag 2.0; a RAW or DAT file without its '%' header needs --format evt3, "
                      "evt2 or dat)");
   }
   return "ecd";
@@ -69,8 +79,9 @@ std::unique_ptr<EventReader> openEventReader(const std::string& path, const Read
   if (format == "evt2") return std::make_unique<io_detail::Evt2Reader>(path, options);
   if (format == "dat") return std::make_unique<io_detail::DatReader>(path, options);
   if (format == "aedat4") return std::make_unique<io_detail::Aedat4Reader>(path, options);
+  if (format == "rosbag") return std::make_unique<io_detail::RosbagReader>(path, options);
   throw InputError(path, "unknown event format '" + format +
-                             "' (supported: auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4)");
+                             "' (supported: auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag)");
 }
 
 std::vector<Event> readAllEvents(const std::string& path, const ReaderOptions& options) {

@@ -397,92 +397,18 @@ Evt3Reader::Evt3Reader(const std::string& path, const ReaderOptions& options)
   startData(header_.data_offset, kEvtLimit);
 }
 
-void Evt3Reader::resetDecoder() {
-  wraps_ = time_high_ = time_low_ = 0;
-  t_ns_ = 0;
-  have_time_ = have_y_ = have_base_ = false;
-  y_ = base_x_ = base_polarity_ = 0;
-  vector_mask_ = 0;
-  vector_x_ = 0;
-  vector_offset_ = 0;
-}
-
-std::size_t Evt3Reader::drainVector(Event* out, std::size_t n, std::size_t capacity) {
-  while (vector_mask_ != 0 && n < capacity) {
-    const int bit = __builtin_ctz(vector_mask_);
-    vector_mask_ &= vector_mask_ - 1;
-    emit(out[n], t_ns_, vector_x_ + bit, y_, base_polarity_, vector_offset_);
-    ++n;
-  }
-  return n;
-}
-
 std::size_t Evt3Reader::decode(Event* out, std::size_t capacity) {
-  std::size_t n = drainVector(out, 0, capacity);  // the rest of a vector the last packet could not hold
-  while (n < capacity) {
-    if (pos_ == end_ && !nextChunk()) break;
-    const unsigned char* p = chunk_.data() + pos_;
-    const unsigned word = static_cast<unsigned>(p[0]) | (static_cast<unsigned>(p[1]) << 8);
-    pos_ += 2;
-    switch (word >> 12) {
-      case 0x0:  // EVT_ADDR_Y
-        y_ = static_cast<int>(word & 0x7FF);
-        have_y_ = true;
-        break;
-      case 0x2:  // EVT_ADDR_X
-        if (have_time_ && have_y_) {
-          emit(out[n], t_ns_, word & 0x7FF, y_, (word >> 11) & 1, offsetOf(pos_ - 2));
-          ++n;
-        } else {
-          ++stats_.ignored_words;
-        }
-        break;
-      case 0x3:  // VECT_BASE_X
-        base_x_ = static_cast<int>(word & 0x7FF);
-        base_polarity_ = static_cast<int>((word >> 11) & 1);
-        have_base_ = true;
-        break;
-      case 0x4:    // VECT_12
-      case 0x5: {  // VECT_8
-        const bool twelve = (word >> 12) == 0x4;
-        if (have_time_ && have_y_ && have_base_) {
-          vector_mask_ = twelve ? (word & 0xFFF) : (word & 0xFF);
-          vector_x_ = base_x_;
-          vector_offset_ = offsetOf(pos_ - 2);
-          n = drainVector(out, n, capacity);
-        } else {
-          ++stats_.ignored_words;
-        }
-        base_x_ += twelve ? 12 : 8;
-        break;
-      }
-      case 0x6:  // EVT_TIME_LOW
-        time_low_ = word & 0xFFF;
-        updateTime(offsetOf(pos_ - 2));
-        break;
-      case 0x8: {  // EVT_TIME_HIGH
-        const uint64_t high = word & 0xFFF;
-        if (have_time_ && high < time_high_ && time_high_ - high >= 2048) ++wraps_;
-        time_high_ = high;
-        have_time_ = true;
-        updateTime(offsetOf(pos_ - 2));
-        break;
-      }
-      case 0xA:  // EXT_TRIGGER
-        ++stats_.trigger_events;
-        break;
-      case 0x7:  // CONTINUED_4
-      case 0xE:  // OTHERS
-      case 0xF:  // CONTINUED_12
-        ++stats_.ignored_words;
-        break;
-      default:
-        fail(offsetOf(pos_ - 2), fmt::format("unknown EVT 3.0 word type {:04b} (word 0x{:04X}); types 0001, 1001, "
-                                             "1011, 1100 and 1101 are reserved (corrupt file, or not EVT 3.0?)",
-                                             word >> 12, word));
+  try {
+    // The first call only delivers the rest of a vector the last packet could not hold.
+    std::size_t n = decoder_.decode(chunk_.data(), pos_, pos_, chunk_offset_, out, 0, capacity, checker_, stats_);
+    while (n < capacity) {
+      if (pos_ == end_ && !nextChunk()) break;
+      n = decoder_.decode(chunk_.data(), pos_, end_, chunk_offset_, out, n, capacity, checker_, stats_);
     }
+    return n;
+  } catch (const EvtDecodeError& e) {
+    fail(e.offset, e.message);
   }
-  return n;
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -499,51 +425,17 @@ Evt2Reader::Evt2Reader(const std::string& path, const ReaderOptions& options)
   startData(header_.data_offset, kEvtLimit);
 }
 
-void Evt2Reader::resetDecoder() {
-  wraps_ = time_high_ = base_us_ = 0;
-  have_time_ = false;
-}
-
 std::size_t Evt2Reader::decode(Event* out, std::size_t capacity) {
-  std::size_t n = 0;
-  while (n < capacity) {
-    if (pos_ == end_ && !nextChunk()) break;
-    const uint32_t word = load32(chunk_.data() + pos_);
-    pos_ += 4;
-    switch (word >> 28) {
-      case 0x0:  // CD_OFF
-      case 0x1:  // CD_ON
-        if (have_time_) {
-          emit(out[n], usToNs(base_us_ + ((word >> 22) & 0x3F), offsetOf(pos_ - 4)), (word >> 11) & 0x7FF,
-               word & 0x7FF, word >> 28, offsetOf(pos_ - 4));
-          ++n;
-        } else {
-          ++stats_.ignored_words;
-        }
-        break;
-      case 0x8: {  // EVT_TIME_HIGH
-        const uint64_t high = word & 0x0FFFFFFF;
-        if (have_time_ && high < time_high_ && time_high_ - high >= (uint64_t{1} << 27)) ++wraps_;
-        time_high_ = high;
-        base_us_ = (wraps_ << 34) | (high << 6);
-        usToNs(base_us_, offsetOf(pos_ - 4));  // out of range here already: fail at the time word
-        have_time_ = true;
-        break;
-      }
-      case 0xA:  // EXT_TRIGGER
-        ++stats_.trigger_events;
-        break;
-      case 0xE:  // OTHERS
-      case 0xF:  // CONTINUED
-        ++stats_.ignored_words;
-        break;
-      default:
-        fail(offsetOf(pos_ - 4), fmt::format("unknown EVT 2.0 word type {:04b} (word 0x{:08X}); only 0000, 0001, "
-                                             "1000, 1010, 1110 and 1111 are defined (corrupt file, or not EVT 2.0?)",
-                                             word >> 28, word));
+  try {
+    std::size_t n = 0;
+    while (n < capacity) {
+      if (pos_ == end_ && !nextChunk()) break;
+      n = decoder_.decode(chunk_.data(), pos_, end_, chunk_offset_, out, n, capacity, checker_, stats_);
     }
+    return n;
+  } catch (const EvtDecodeError& e) {
+    fail(e.offset, e.message);
   }
-  return n;
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -18,6 +18,7 @@
 #include "asynevo/io/event_reader.hpp"
 #include "asynevo/io/file_handle.hpp"
 #include "event_checker.hpp"
+#include "evt_decoder.hpp"
 
 namespace asynevo::io_detail {
 
@@ -121,25 +122,10 @@ class Evt3Reader final : public PropheseeReader {
 
  private:
   std::size_t decode(Event* out, std::size_t capacity) override;
-  void resetDecoder() override;
-  std::size_t drainVector(Event* out, std::size_t n, std::size_t capacity);
-  /// The time from the current counters; `offset` is the time word's, for the out-of-range error.
-  void updateTime(uint64_t offset) { t_ns_ = usToNs((wraps_ << 24) | (time_high_ << 12) | time_low_, offset); }
-  uint64_t wrapsSoFar() const override { return wraps_; }
+  void resetDecoder() override { decoder_.reset(); }
+  uint64_t wrapsSoFar() const override { return decoder_.wraps(); }
 
-  uint64_t wraps_ = 0;          ///< times the 24-bit time base wrapped around
-  uint64_t time_high_ = 0;
-  uint64_t time_low_ = 0;
-  int64_t t_ns_ = 0;
-  bool have_time_ = false;      ///< a TIME_HIGH was seen
-  bool have_y_ = false;         ///< an ADDR_Y was seen
-  bool have_base_ = false;      ///< a VECT_BASE_X was seen
-  int y_ = 0;
-  int base_x_ = 0;
-  int base_polarity_ = 0;
-  uint32_t vector_mask_ = 0;    ///< events of the current vector word not yet delivered
-  int vector_x_ = 0;            ///< x of the vector word's bit 0
-  uint64_t vector_offset_ = 0;  ///< byte offset of the vector word, for messages
+  Evt3Decoder decoder_;
 };
 
 /// Prophesee RAW, EVT 2.0: 32-bit words; CD_OFF/CD_ON carry x, y and the 6 low time bits, TIME_HIGH
@@ -150,13 +136,10 @@ class Evt2Reader final : public PropheseeReader {
 
  private:
   std::size_t decode(Event* out, std::size_t capacity) override;
-  void resetDecoder() override;
-  uint64_t wrapsSoFar() const override { return wraps_; }
+  void resetDecoder() override { decoder_.reset(); }
+  uint64_t wrapsSoFar() const override { return decoder_.wraps(); }
 
-  uint64_t wraps_ = 0;          ///< times the 34-bit time wrapped around
-  uint64_t time_high_ = 0;
-  uint64_t base_us_ = 0;        ///< (wraps << 34) + (time_high << 6)
-  bool have_time_ = false;
+  Evt2Decoder decoder_;
 };
 
 /// Prophesee DAT: after the header, an event-type byte and an event-size byte (8), then 8-byte

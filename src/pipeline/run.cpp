@@ -79,7 +79,7 @@ RunSummary runDataset(const RunOptions& options,
   // The sensor size by precedence: --sensor, the configuration's sensor block, sensor.yaml, a camchain's
   // resolution, the format (io/sensor_size.hpp).
   const ReaderOptions reader_options = datasetReaderOptions(
-      files, config, {options.format, options.sensor, options.calib, options.config_path}, &summary.warnings);
+      files, config, {options.format, options.sensor, options.calib, options.config_path, options.topic}, &summary.warnings);
   if (options.repeat < 1) throw ConfigError(fmt::format("--repeat must be at least 1, not {}", options.repeat));
   std::unique_ptr<EventReader> reader =
       options.repeat == 1

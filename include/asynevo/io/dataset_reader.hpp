@@ -18,6 +18,7 @@ struct DatasetReadSettings {
   std::string sensor;           ///< --sensor WxH, "" = not given
   std::string calib;            ///< --calib, "" = the dataset's own calibration
   std::string config_path;      ///< --config, to name it in messages ("" = "the configuration")
+  std::string topic;            ///< --topic NAME (ROS bags), "" = the bag's only event topic
 };
 
 /// Options for openEventReader(files.events, ...). The configuration's sensor size counts only when a

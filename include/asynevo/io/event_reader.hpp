@@ -3,7 +3,8 @@
 // multi-gigabyte recording is processed in constant memory. Every event is checked (finite time,
 // pixel inside the sensor, valid polarity, time not going backwards beyond a tolerance); a violation
 // throws InputError naming the file and the line (text), record (fixed-size binary records) or byte
-// offset (Prophesee RAW and DAT; AEDAT 4.0: the offset of the packet, with the packet and event index).
+// offset (Prophesee RAW and DAT; AEDAT 4.0: the offset of the packet, with the packet and event index;
+// ROS bag: the offset of the message record, or of its compressed chunk, with the message index).
 
 #include <cstdint>
 #include <memory>
@@ -16,8 +17,10 @@ namespace asynevo {
 
 struct ReaderOptions {
   /// "auto", "ecd", "mvsec", "aevt", "evt3" (Prophesee RAW EVT 3.0), "evt2" (Prophesee RAW EVT 2.0),
-  /// "dat" (Prophesee DAT), "aedat4" (iniVation AEDAT 4.0)
+  /// "dat" (Prophesee DAT), "aedat4" (iniVation AEDAT 4.0), "rosbag" (ROS1 bag, format 2.0)
   std::string format = "auto";
+  /// The topic of a container with several event streams (ROS bag); "" = the only event topic.
+  std::string topic;
   int width = 0;                      ///< sensor columns; 0 = the format's own or default (ECD: 240)
   int height = 0;                     ///< sensor rows; 0 = the format's own or default (ECD: 180)
   /// Where width and height were set, for messages ("--sensor", "the configuration c.yaml", ...; see
@@ -30,14 +33,15 @@ struct ReaderOptions {
 /// What a reader knows about its stream without reading it all.
 struct StreamInfo {
   std::string path;     ///< the event file
-  std::string format;   ///< "ecd", "mvsec", "aevt", "evt3", "evt2", "dat", "aedat4"
+  std::string format;   ///< "ecd", "mvsec", "aevt", "evt3", "evt2", "dat", "aedat4", "rosbag"
   int width = 0;
   int height = 0;
   std::string size_origin;  ///< where width and height came from: ReaderOptions::size_origin, or the format's
                             ///< ("the ECD text default", "the .aevt header", ...)
 };
 
-/// One stream of a container file that holds several (AEDAT 4.0: events, frames, IMU, triggers).
+/// One stream of a container file that holds several (AEDAT 4.0: events, frames, IMU, triggers; ROS bag:
+/// its topics, with the message type as `type`, the topic as `name` and messages as `packets`).
 struct ContainerStream {
   int id = 0;
   std::string type;         ///< the format's type name: "EVTS", "FRME", "IMUS", "TRIG", ...

@@ -31,6 +31,7 @@ struct RunOptions {
   std::string format = "auto";
   std::string sensor;            ///< --sensor WxH ("" = from the configuration or the dataset, io/sensor_size.hpp)
   std::string calib;             ///< "" = the dataset's own calibration file
+  std::string topic;             ///< --topic: a ROS bag's event topic ("" = its only one)
   std::string config_path;       ///< "" = defaults (or `config` below)
   std::optional<Config> config;  ///< used instead of config_path when set (the demo)
   BackendKind backend = BackendKind::kWindow;

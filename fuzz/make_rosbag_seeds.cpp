@@ -1,0 +1,79 @@
+// Writes the ROS bag seeds of fuzz/corpus/rosbag_events with the test suite's specification-built
+// fixture (tests/io/rosbag_fixture.hpp). Not part of the build; run once:
+//   g++ -std=c++17 -I tests fuzz/make_rosbag_seeds.cpp -llz4 -lbz2 -o /tmp/rosbag_seeds
+//   /tmp/rosbag_seeds fuzz/corpus
+#include <bzlib.h>
+#include <lz4frame.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "io/rosbag_fixture.hpp"
+
+namespace bag = asynevo::testing::bag;
+
+namespace {
+
+std::string lz4(const std::string& in) {
+  std::string out(LZ4F_compressFrameBound(in.size(), nullptr), '\0');
+  out.resize(LZ4F_compressFrame(out.data(), out.size(), in.data(), in.size(), nullptr));
+  return out;
+}
+
+std::string bz2(const std::string& in) {
+  std::string out(in.size() + in.size() / 100 + 700, '\0');
+  auto n = static_cast<unsigned int>(out.size());
+  std::string src = in;
+  BZ2_bzBuffToBuffCompress(out.data(), &n, src.data(), static_cast<unsigned int>(src.size()), 9, 0, 0);
+  out.resize(n);
+  return out;
+}
+
+const bag::Connection kDvs{0, "/dvs/events", bag::kEventArrayType, bag::kEventArrayMd5, bag::kEventArrayDefinition};
+const bag::Connection kImu{1, "/dvs/imu", "sensor_msgs/Imu", "6a62c6daae103f4ff57a132d6f95cec2", "-"};
+const bag::Connection kPackets{2, "/event_camera/events", bag::kEventPacketType, bag::kEventPacketMd5, "-"};
+
+std::string dvs(const std::string& compression, std::string (*compress)(const std::string&)) {
+  std::vector<bag::DvsEvent> a, b;
+  for (int i = 0; i < 6; ++i) a.push_back({uint16_t(i * 5), uint16_t(i * 3), 1'000'000'000ull + i * 1000ull, i % 2 == 0});
+  for (int i = 6; i < 9; ++i) b.push_back({uint16_t(i * 5), uint16_t(i * 3), 1'000'000'000ull + i * 1000ull, i % 2 == 0});
+  bag::Chunk c1{{{0, 1'000'000'000ull, bag::eventArray(64, 32, a)}, {1, 1'000'000'000ull, std::string(20, 'i')}},
+                compression, nullptr};
+  bag::Chunk c2{{{0, 1'000'006'000ull, bag::eventArray(64, 32, b)}}, compression, nullptr};
+  if (compress != nullptr) c1.compress = c2.compress = compress;
+  return bag::buildBag({kDvs, kImu}, {c1, c2});
+}
+
+std::string packets() {
+  auto w = [](std::initializer_list<uint32_t> words) {
+    std::string s;
+    for (uint32_t x : words) s += bag::u16(x);
+    return s;
+  };
+  bag::Chunk chunk{{{2, 1, bag::eventPacket(64, 32, "evt3", w({0x8001, 0x6005, 0x0007}))},
+                    {2, 2, bag::eventPacket(64, 32, "evt3", w({0x2803, 0x300A, 0x4805, 0x6009, 0x2001, 0xA001}), 1)}}};
+  return bag::buildBag({kPackets}, {chunk});
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: %s CORPUS_DIR\n", argv[0]);
+    return 2;
+  }
+  const std::string dir = std::string(argv[1]) + "/rosbag_events/";
+  const std::pair<const char*, std::string> seeds[] = {
+      {"seed_none.bag", dvs("none", nullptr)},
+      {"seed_lz4.bag", dvs("lz4", lz4)},
+      {"seed_bz2.bag", dvs("bz2", bz2)},
+      {"seed_evt3_packets.bag", packets()},
+  };
+  for (const auto& [name, bytes] : seeds) std::ofstream(dir + name, std::ios::binary) << bytes;
+  const std::string cut = dvs("lz4", lz4);
+  std::ofstream(dir + "seed_truncated.bag", std::ios::binary) << cut.substr(0, cut.size() - 7);
+  return 0;
+}
