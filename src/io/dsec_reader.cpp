@@ -57,6 +57,25 @@ void checkFiltersAvailable(const std::string& path, hid_t dataset, const std::st
   }
 }
 
+// A compressed dataset's stored size says nothing about its length (h5CheckStoredSize checks only unfiltered
+// ones), so a corrupt length of 10^12 with no chunks behind it would read as 10^12 fill-value events (all
+// t = 0, x = y = 0: valid) for hours. A file written whole has every chunk: require them all.
+void checkChunksAllocated(const std::string& path, hid_t dataset, const std::string& name, uint64_t length) {
+  const H5PropertyList create(H5Dget_create_plist(dataset));
+  if (!create.valid() || H5Pget_layout(create.get()) != H5D_CHUNKED || length == 0) return;
+  hsize_t chunk[1] = {0};
+  if (H5Pget_chunk(create.get(), 1, chunk) != 1 || chunk[0] == 0)
+    throw InputError(path, fmt::format("dataset '{}' has no valid chunk size (corrupt file?)", name));
+  const uint64_t expected = length / chunk[0] + (length % chunk[0] != 0 ? 1 : 0);
+  hsize_t stored = 0;
+  const H5Space space(H5Dget_space(dataset));  // libhdf5 1.10 counts nothing with H5S_ALL
+  if (!space.valid() || H5Dget_num_chunks(dataset, space.get(), &stored) < 0 || stored < expected) {
+    throw InputError(path, fmt::format("dataset '{}' declares {} values in {} chunks of {} but stores {} chunks "
+                                       "(truncated or corrupt file?)",
+                                       name, length, expected, chunk[0], stored));
+  }
+}
+
 // Opens a 1-D integer dataset and returns it with its length, after the type, storage and filter checks.
 H5Dataset openIntegerColumn(const std::string& path, hid_t file, const std::string& name, uint64_t& length) {
   if (!h5PathExists(file, name)) throw InputError(path, fmt::format("missing dataset '{}'", name));
@@ -77,6 +96,7 @@ H5Dataset openIntegerColumn(const std::string& path, hid_t file, const std::stri
   }
   h5CheckStoredSize(path, dataset.get(), name.c_str(), dims[0], size);
   checkFiltersAvailable(path, dataset.get(), name);
+  checkChunksAllocated(path, dataset.get(), name, dims[0]);
   length = dims[0];
   return dataset;
 }
@@ -152,7 +172,7 @@ DsecReader::DsecReader(const std::string& path, const ReaderOptions& options)
     const H5Dataset offset(H5Dopen2(file_.get(), "t_offset", H5P_DEFAULT));
     const H5Space space(offset.valid() ? H5Dget_space(offset.get()) : -1);
     const H5Type type(offset.valid() ? H5Dget_type(offset.get()) : -1);
-    if (!space.valid() || !type.valid() || H5Tget_class(type.get()) != H5T_INTEGER ||
+    if (!space.valid() || !type.valid() || H5Tget_class(type.get()) != H5T_INTEGER || H5Tget_size(type.get()) > 8 ||
         H5Sget_simple_extent_npoints(space.get()) != 1) {
       throw InputError(path, "dataset 't_offset' must be a single integer (microseconds added to events/t)");
     }

@@ -228,6 +228,39 @@ TEST(DsecReader, TruncatedAndCorruptFilesAreErrorsNotCrashes) {
   }
 }
 
+// A compressed dataset whose declared length has no chunks behind it (a corrupt length, or a writer killed
+// before the end) would read as fill values: every chunk must be stored.
+TEST(DsecReader, CompressedDatasetWithUnstoredChunksIsRejected) {
+  TempDir dir;
+  const std::string path = dir.file("partial.h5");
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(lcpl, 1);
+  const hsize_t n = 3000, chunk = 1000, written = 1000;
+  const hid_t space = H5Screate_simple(1, &n, nullptr);
+  const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  H5Pset_chunk(dcpl, 1, &chunk);
+  H5Pset_deflate(dcpl, 1);
+  const std::vector<int64_t> values(written, 1);
+  for (const char* name : {"events/x", "events/y", "events/t", "events/p"}) {
+    const hid_t set = H5Dcreate2(file, name, H5T_STD_U16LE, space, lcpl, dcpl, H5P_DEFAULT);
+    const hid_t file_space = H5Dget_space(set);
+    const hsize_t start = 0;
+    H5Sselect_hyperslab(file_space, H5S_SELECT_SET, &start, nullptr, &written, nullptr);
+    const hid_t memory_space = H5Screate_simple(1, &written, nullptr);
+    H5Dwrite(set, H5T_NATIVE_INT64, memory_space, file_space, H5P_DEFAULT, values.data());
+    H5Sclose(memory_space);
+    H5Sclose(file_space);
+    H5Dclose(set);
+  }
+  H5Pclose(dcpl);
+  H5Sclose(space);
+  H5Pclose(lcpl);
+  H5Fclose(file);
+  EXPECT_EQ(messageOf(path, vga()), path + ": dataset 'events/x' declares 3000 values in 3 chunks of 1000 but stores 1 "
+                                           "chunks (truncated or corrupt file?)");
+}
+
 // A dataset compressed with a filter this HDF5 library cannot load: the message names the remedy. The filter
 // is registered only to write the file, then unregistered (plugin loading off, so it stays unavailable).
 std::size_t identityFilter(unsigned, std::size_t, const unsigned[], std::size_t nbytes, std::size_t*, void**) {
