@@ -118,7 +118,8 @@ void addConvertCommand(CLI::App& app) {
   cmd->add_option("--out", options.out, "output file: .aevt (in a dataset folder: events.aevt) or ECD text .txt")
       ->required();
   cmd->add_option("--out-format", options.out_format, "output format: auto (from the --out extension), aevt, ecd")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "aevt", "ecd"}));
   cmd->callback([] { runConvert(options); });
 }
 

@@ -66,6 +66,7 @@ TEST(ConvertCommand, AevtToEcdTextAndBackIsIdentical) {
   EXPECT_NE(unknown.exit_code, 0);
   EXPECT_NE(unknown.output.find("cannot tell the output format from the file name"), std::string::npos)
       << unknown.output;
+  EXPECT_EQ(runAsynevo("convert --dataset " + a + " --out " + named + " --out-format csv").exit_code, 105);
 }
 
 // DSEC-style HDF5 -> aevt -> ECD text: the same events at every step (the size comes from --sensor).
