@@ -2,7 +2,8 @@
 // The inputs are generated once per process in the temp folder by the tests' layout fixture
 // (tests/io/dsec_fixture.hpp): 10 M events at 10 M events/s on 640x480, DSEC's types (x, y uint16, p uint8,
 // t uint32 µs, t_offset, ms_to_idx), chunks of 16384 values, uncompressed and Blosc+Zstd (DSEC's own
-// compression; skipped without the plugin). Run: build/bin/bench_io --benchmark_filter=Dsec
+// compression; skipped without the plugin), and Blosc+Zstd in chunks of 2^20 values (4 MB of t, more than
+// libhdf5's default 1 MB chunk cache). Run: build/bin/bench_io --benchmark_filter=Dsec
 #include <benchmark/benchmark.h>
 #include <hdf5.h>
 
@@ -20,10 +21,10 @@ namespace {
 
 constexpr int64_t kEvents = 10'000'000;
 
-std::string dsecFile(bool blosc) {
-  const std::string path =
-      (std::filesystem::temp_directory_path() / (blosc ? "asynevo_bench_10M_dsec_blosc.h5" : "asynevo_bench_10M_dsec.h5"))
-          .string();
+std::string dsecFile(bool blosc, hsize_t chunk) {
+  const std::string name =
+      std::string("asynevo_bench_10M_dsec") + (blosc ? "_blosc" : "") + "_chunk" + std::to_string(chunk) + ".h5";
+  const std::string path = (std::filesystem::temp_directory_path() / name).string();
   testing::DsecEvents events;
   events.x.resize(kEvents);
   events.y.resize(kEvents);
@@ -38,7 +39,7 @@ std::string dsecFile(bool blosc) {
   }
   testing::DsecLayout layout;
   layout.t_offset_us = 49'599'300'523;
-  layout.chunk = 16384;
+  layout.chunk = chunk;
   if (blosc) {
     layout.filter = 32001;
     layout.filter_values = {0, 0, 0, 0, 1, 2, 5};  // level 1, bit shuffle, Zstd
@@ -55,7 +56,7 @@ ReaderOptions vga() {
 }
 
 void BM_DsecRead10M(benchmark::State& state) {
-  static const std::string path = dsecFile(false);
+  static const std::string path = dsecFile(false, 16384);
   benchmarkReadAll(state, path, true, vga());
 }
 
@@ -64,12 +65,22 @@ void BM_DsecBloscZstdRead10M(benchmark::State& state) {
     state.SkipWithError("the HDF5 Blosc filter plugin is not installed (Debian: hdf5-filter-plugin-blosc-serial)");
     return;
   }
-  static const std::string path = dsecFile(true);
+  static const std::string path = dsecFile(true, 16384);
+  benchmarkReadAll(state, path, true, vga());
+}
+
+void BM_DsecBloscZstdBigChunksRead10M(benchmark::State& state) {
+  if (H5Zfilter_avail(32001) <= 0) {
+    state.SkipWithError("the HDF5 Blosc filter plugin is not installed (Debian: hdf5-filter-plugin-blosc-serial)");
+    return;
+  }
+  static const std::string path = dsecFile(true, hsize_t{1} << 20);
   benchmarkReadAll(state, path, true, vga());
 }
 
 BENCHMARK(BM_DsecRead10M)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_DsecBloscZstdRead10M)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_DsecBloscZstdBigChunksRead10M)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 }  // namespace
 }  // namespace asynevo
