@@ -8,11 +8,15 @@
 
 namespace asynevo::fuzz {
 
-inline int fuzzEventReader(const uint8_t* data, std::size_t size, const char* format, const char* suffix) {
+/// `width`, `height`: the sensor size to pass, for formats whose files state none and have no default (dsec).
+inline int fuzzEventReader(const uint8_t* data, std::size_t size, const char* format, const char* suffix,
+                           int width = 0, int height = 0) {
   const InputFile input(data, size, suffix);
   rejectCleanly([&] {
     ReaderOptions options;
     options.format = format;
+    options.width = width;
+    options.height = height;
     options.packet_size = 256;  // many packets: exercise the readers' chunk boundaries
     auto reader = openEventReader(input.path(), options);
     const StreamInfo& info = reader->info();

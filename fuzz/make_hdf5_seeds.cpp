@@ -1,5 +1,7 @@
-// Writes the MVSEC-layout HDF5 seeds of fuzz/corpus/mvsec_events and fuzz/corpus/mvsec_groundtruth with
-// the test suite's fixture writer (tests/io/mvsec_fixture.hpp). Not part of the build; run once:
+// Writes the MVSEC-layout HDF5 seeds of fuzz/corpus/mvsec_events and fuzz/corpus/mvsec_groundtruth, and the
+// DSEC-style seeds of fuzz/corpus/dsec_events, with the test suite's fixture writers
+// (tests/io/mvsec_fixture.hpp, tests/io/dsec_fixture.hpp). Not part of the build; run once (the Blosc seed
+// needs hdf5-filter-plugin-blosc-serial):
 //   g++ -std=c++17 -I tests fuzz/make_hdf5_seeds.cpp $(pkg-config --cflags --libs hdf5-serial) -o /tmp/seeds
 //   /tmp/seeds fuzz/corpus
 #include <array>
@@ -7,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "io/dsec_fixture.hpp"
 #include "io/mvsec_fixture.hpp"
 
 int main(int argc, char** argv) {
@@ -27,5 +30,30 @@ int main(int argc, char** argv) {
   }
   asynevo::testing::writeMvsecGroundTruth(dir + "/mvsec_groundtruth/seed_5_poses.hdf5", poses, times);
   asynevo::testing::writeMvsecGroundTruth(dir + "/mvsec_groundtruth/seed_empty.hdf5", {}, {});
+
+  namespace t = asynevo::testing;
+  const t::DsecEvents events = t::syntheticDsecEvents(40);
+  t::DsecLayout dsec;
+  dsec.t_offset_us = 49'599'300'523;
+  dsec.chunk = 16;
+  t::writeDsecEvents(dir + "/dsec_events/seed_40_events.h5", events, dsec);
+  t::writeDsecEvents(dir + "/dsec_events/seed_empty.h5", {}, dsec);
+  t::DsecLayout tum;  // TUM-VIE: int64 t, no t_offset
+  tum.t_type = H5T_STD_I64LE;
+  tum.write_t_offset = false;
+  tum.chunk = 16;
+  t::writeDsecEvents(dir + "/dsec_events/seed_tumvie_40_events.h5", events, tum);
+  t::DsecLayout m3ed = tum;
+  m3ed.group = "prophesee/left";
+  m3ed.write_ms_to_idx = false;
+  t::writeDsecEvents(dir + "/dsec_events/seed_m3ed_40_events.h5", events, m3ed);
+  if (H5Zfilter_avail(32001) > 0) {
+    // Blosc fails (a mandatory filter: the chunk is not written) on chunks too small to compress: 1000 values.
+    t::DsecLayout blosc = dsec;
+    blosc.chunk = 1000;
+    blosc.filter = 32001;
+    blosc.filter_values = {0, 0, 0, 0, 5, 2, 5};  // level 5, bit shuffle, Zstd
+    t::writeDsecEvents(dir + "/dsec_events/seed_blosc_zstd_2000_events.h5", t::syntheticDsecEvents(2000), blosc);
+  }
   return 0;
 }

@@ -142,7 +142,7 @@ void addInfoCommand(CLI::App& app) {
   static InfoOptions options;  // CLI11 binds options to stable addresses; one parse per process
   auto* cmd = app.add_subcommand("info", "Describe a dataset: format, sensor, event count, time span, rates");
   cmd->add_option("--dataset", options.dataset, "ECD-style folder or event file")->required();
-  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag)");
+  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag, dsec)");
   cmd->add_option("--config", options.config, "configuration YAML (sensor size, time tolerance)");
   addSensorOption(cmd, options.sensor);
   addTopicOption(cmd, options.topic);

@@ -1,4 +1,4 @@
-// 'asynevo run --dataset PATH [--format auto|ecd|mvsec|aevt|evt3|evt2|dat|aedat4|rosbag] [--calib FILE] [--config FILE]
+// 'asynevo run --dataset PATH [--format auto|ecd|mvsec|aevt|evt3|evt2|dat|aedat4|rosbag|dsec] [--calib FILE] [--config FILE]
 //  [--backend window|incremental|incremental-frozen] [--realtime [--speed X]] --out DIR' (contract: DESIGN.md §1).
 // The work is pipeline::runDataset (docs/pipeline.md); this file parses, shows progress and reports.
 #include <fmt/format.h>
@@ -44,7 +44,7 @@ void addRunCommand(CLI::App& app) {
   pipeline::RunOptions& run = options.run;
   auto* cmd = app.add_subcommand("run", "Estimate the camera trajectory of a dataset");
   cmd->add_option("--dataset", run.dataset, "ECD-style folder or event file")->required();
-  cmd->add_option("--format", run.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag)")->capture_default_str();
+  cmd->add_option("--format", run.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag, dsec)")->capture_default_str();
   cmd->add_option("--calib", run.calib,
                   "calibration file (ECD calib.txt or Kalibr YAML; default: the dataset's)");
   cmd->add_option("--config", run.config_path, "configuration YAML (overrides the defaults; see config/)");

@@ -158,7 +158,7 @@ void addTrackCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("track", "Run the frontend only and write feature tracks");
   cmd->add_option("--dataset", options.dataset, "ECD-style folder or event file")->required();
   cmd->add_option("--out", options.out, "tracks file (id t x y)")->required();
-  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag)");
+  cmd->add_option("--format", options.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag, dsec)");
   cmd->add_option("--config", options.config, "configuration YAML (frontend section, sensor size)");
   cmd->add_option("--calib", options.calib, "calibration file (default: the dataset's calib.txt, if any)");
   addSensorOption(cmd, options.sensor);

@@ -12,7 +12,7 @@ namespace asynevo {
 namespace fs = std::filesystem;
 
 const char* const kEventFileNames =
-    "events.aevt, events.txt, events.raw or another *.raw, events.dat, *_td.dat, *_cd.dat, *.aedat4, *.bag or *_data.hdf5";
+    "events.aevt, events.txt, events.raw or another *.raw, events.dat, *_td.dat, *_cd.dat, *.aedat4, *.bag, *_data.hdf5, events.h5 or *_data.h5";
 
 namespace {
 
@@ -49,13 +49,14 @@ std::string eventFileKind(const std::string& name) {
   if (endsWith(name, ".aedat4")) return "aedat4";  // iniVation AEDAT 4.0
   if (endsWith(name, ".bag")) return "rosbag";      // ROS1 bag
   if (endsWith(name, "_data.hdf5")) return "mvsec";
+  if (name == "events.h5" || endsWith(name, "_data.h5")) return "dsec";  // DSEC-style HDF5 (DSEC events.h5, M3ED)
   return "";
 }
 
 /// Whether --format narrows the folder's candidates: "auto" does not, and neither does an unknown name
 /// (the reader factory reports it with the list of formats).
 bool formatFilters(const std::string& format) {
-  static const char* const kFormats[] = {"ecd", "mvsec", "aevt", "evt3", "evt2", "dat", "aedat4", "rosbag"};
+  static const char* const kFormats[] = {"ecd", "mvsec", "aevt", "evt3", "evt2", "dat", "aedat4", "rosbag", "dsec"};
   return std::find(std::begin(kFormats), std::end(kFormats), format) != std::end(kFormats);
 }
 

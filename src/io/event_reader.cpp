@@ -9,6 +9,7 @@
 #include "asynevo/io/file_handle.hpp"
 #include "aedat4_header.hpp"
 #include "aedat4_reader.hpp"
+#include "dsec_reader.hpp"
 #include "ecd_text_reader.hpp"
 #include "event_file_reader.hpp"
 #include "mvsec_reader.hpp"
@@ -29,7 +30,7 @@ std::string detectFormat(const std::string& path) {
   unsigned char head[4096];
   const std::size_t n = std::fread(head, 1, sizeof(head), file.get());
   if (n == 0) throw InputError(path, "the event file is empty");
-  if (n >= 8 && std::memcmp(head, kHdf5Signature, 8) == 0) return "mvsec";
+  if (n >= 8 && std::memcmp(head, kHdf5Signature, 8) == 0) return io_detail::detectHdf5EventFormat(path);  // mvsec, dsec
   if (n >= 8 && std::memcmp(head, kEventFileMagic, 8) == 0) return "aevt";
   if (n >= aedat4::kMagicBytes && std::memcmp(head, aedat4::kMagic, aedat4::kMagicBytes) == 0) return "aedat4";
   if (n >= io_detail::kRosbagMagicBytes &&
@@ -80,8 +81,9 @@ std::unique_ptr<EventReader> openEventReader(const std::string& path, const Read
   if (format == "dat") return std::make_unique<io_detail::DatReader>(path, options);
   if (format == "aedat4") return std::make_unique<io_detail::Aedat4Reader>(path, options);
   if (format == "rosbag") return std::make_unique<io_detail::RosbagReader>(path, options);
+  if (format == "dsec") return std::make_unique<io_detail::DsecReader>(path, options);
   throw InputError(path, "unknown event format '" + format +
-                             "' (supported: auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag)");
+                             "' (supported: auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag, dsec)");
 }
 
 std::vector<Event> readAllEvents(const std::string& path, const ReaderOptions& options) {

@@ -73,20 +73,9 @@ inline bool h5PathExists(hid_t file, const std::string& path) {
   }
 }
 
-/// Checks, before anything is read or allocated, that the dataset `name` of the file at `path` holds
-/// `elements` 32- or 64-bit floating-point numbers that the file can hold: without compression filters
-/// the raw bytes must fit in the file. Throws InputError otherwise. A corrupt file can declare a float
-/// type of 4 GB per value, or billions of values with no storage behind them (read as fill values):
-/// HDF5 would allocate the conversion buffer, the reader the values, or loop over them for ever (found
-/// 2026-11-26 by the mvsec_groundtruth fuzz harness).
-inline void h5CheckFloatDataset(const std::string& path, hid_t dataset, const char* name, uint64_t elements) {
-  const H5Type type(H5Dget_type(dataset));
-  const std::size_t size = type.valid() ? H5Tget_size(type.get()) : 0;
-  if (!type.valid() || H5Tget_class(type.get()) != H5T_FLOAT || (size != 4 && size != 8)) {
-    throw InputError(path, fmt::format("dataset '{}' does not hold 32- or 64-bit floating-point numbers (its values "
-                                       "are {} bytes each; corrupt file?)",
-                                       name, size));
-  }
+/// The storage half of h5CheckFloatDataset, for values of any type of `size` bytes (`size` > 0).
+inline void h5CheckStoredSize(const std::string& path, hid_t dataset, const char* name, uint64_t elements,
+                              std::size_t size) {
   std::error_code error;
   const std::uintmax_t file_bytes = std::filesystem::file_size(path, error);
   const H5PropertyList create(H5Dget_create_plist(dataset));
@@ -122,6 +111,23 @@ inline void h5CheckFloatDataset(const std::string& path, hid_t dataset, const ch
                                          size));
     }
   }
+}
+
+/// Checks, before anything is read or allocated, that the dataset `name` of the file at `path` holds
+/// `elements` 32- or 64-bit floating-point numbers that the file can hold: without compression filters
+/// the raw bytes must fit in the file. Throws InputError otherwise. A corrupt file can declare a float
+/// type of 4 GB per value, or billions of values with no storage behind them (read as fill values):
+/// HDF5 would allocate the conversion buffer, the reader the values, or loop over them for ever (found
+/// 2026-11-26 by the mvsec_groundtruth fuzz harness).
+inline void h5CheckFloatDataset(const std::string& path, hid_t dataset, const char* name, uint64_t elements) {
+  const H5Type type(H5Dget_type(dataset));
+  const std::size_t size = type.valid() ? H5Tget_size(type.get()) : 0;
+  if (!type.valid() || H5Tget_class(type.get()) != H5T_FLOAT || (size != 4 && size != 8)) {
+    throw InputError(path, fmt::format("dataset '{}' does not hold 32- or 64-bit floating-point numbers (its values "
+                                       "are {} bytes each; corrupt file?)",
+                                       name, size));
+  }
+  h5CheckStoredSize(path, dataset, name, elements, size);
 }
 
 }  // namespace asynevo::io_detail

@@ -15,89 +15,12 @@
 #include "asynevo/core/time.hpp"
 #include "asynevo/io/calibration_io.hpp"
 #include "asynevo/io/event_file.hpp"
+#include "asynevo/io/event_text.hpp"
 #include "asynevo/io/trajectory_io.hpp"
 #include "asynevo/sim/scene.hpp"
 #include "asynevo/sim/sensor.hpp"
 
 namespace asynevo::sim {
-
-namespace {
-
-/// Writes "t x y p\n" for each event with hand-rolled formatting (the text file can hold tens of
-/// millions of events).
-class EventTextWriter {
- public:
-  explicit EventTextWriter(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "wb")) {
-    if (!file_) throw Error(fmt::format("{}: cannot open file for writing", path));
-    buffer_.reserve(kFlushBytes + 64);
-  }
-  ~EventTextWriter() {
-    if (file_) std::fclose(file_);
-  }
-  EventTextWriter(const EventTextWriter&) = delete;
-  EventTextWriter& operator=(const EventTextWriter&) = delete;
-
-  void write(const Event& e) {
-    char line[64];
-    char* p = line;
-    int64_t t = e.t_ns;
-    if (t < 0) {
-      *p++ = '-';
-      t = -t;
-    }
-    p = appendUnsigned(p, static_cast<uint64_t>(t / kNsPerSecond));
-    *p++ = '.';
-    uint64_t frac = static_cast<uint64_t>(t % kNsPerSecond);
-    for (int k = 8; k >= 0; --k) {
-      p[k] = static_cast<char>('0' + frac % 10);
-      frac /= 10;
-    }
-    p += 9;
-    *p++ = ' ';
-    p = appendUnsigned(p, e.x);
-    *p++ = ' ';
-    p = appendUnsigned(p, e.y);
-    *p++ = ' ';
-    *p++ = e.polarity > 0 ? '1' : '0';
-    *p++ = '\n';
-    buffer_.append(line, static_cast<std::size_t>(p - line));
-    if (buffer_.size() >= kFlushBytes) flush();
-  }
-
-  void close() {
-    flush();
-    if (!file_) return;
-    const bool failed = std::fclose(file_) != 0;
-    file_ = nullptr;
-    if (failed) throw Error(fmt::format("{}: write failed", path_));
-  }
-
- private:
-  static constexpr std::size_t kFlushBytes = 1 << 20;
-  static char* appendUnsigned(char* p, uint64_t v) {
-    char digits[24];
-    int n = 0;
-    do {
-      digits[n++] = static_cast<char>('0' + v % 10);
-      v /= 10;
-    } while (v != 0);
-    while (n > 0) *p++ = digits[--n];
-    return p;
-  }
-  void flush() {
-    if (buffer_.empty()) return;
-    if (std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size()) {
-      throw Error(fmt::format("{}: write failed", path_));
-    }
-    buffer_.clear();
-  }
-
-  std::string path_;
-  std::FILE* file_;
-  std::string buffer_;
-};
-
-}  // namespace
 
 std::unique_ptr<Motion> makeMotion(const SimulationSpec& spec) {
   if (spec.duration_s < 0 || !std::isfinite(spec.duration_s)) {

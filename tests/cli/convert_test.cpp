@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "asynevo/io/event_reader.hpp"
 #include "cli_test_util.hpp"
+#include "dsec_fixture.hpp"
 #include "io_test_util.hpp"
 
 namespace asynevo {
@@ -34,6 +37,64 @@ TEST(ConvertCommand, BadInputLeavesNoOutputFile) {
   EXPECT_EQ(result.exit_code, 1);
   EXPECT_NE(result.output.find("events.txt:2: expected 4 fields"), std::string::npos) << result.output;
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+std::string bytesOf(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// aevt -> ECD text -> aevt gives the same bytes: ECD text with 9 decimals holds every int64 ns time exactly.
+TEST(ConvertCommand, AevtToEcdTextAndBackIsIdentical) {
+  TempDir dir;
+  const auto a = dir.file("a.aevt");
+  const auto text = dir.file("events.txt");
+  const auto b = dir.file("b.aevt");
+  ASSERT_EQ(runAsynevo("convert --dataset " + dataPath("ecd/boxes_rotation") + " --out " + a).exit_code, 0);
+  const auto to_text = runAsynevo("convert --dataset " + a + " --out " + text);
+  ASSERT_EQ(to_text.exit_code, 0) << to_text.output;
+  EXPECT_NE(to_text.output.find("as ECD text"), std::string::npos) << to_text.output;
+  const auto back = runAsynevo("convert --dataset " + text + " --out " + b);
+  ASSERT_EQ(back.exit_code, 0) << back.output;
+  EXPECT_EQ(bytesOf(a), bytesOf(b));
+  EXPECT_EQ(readAllEvents(text), readAllEvents(a));
+  // --out-format overrides the extension; an unknown extension without it is a usage error.
+  const auto named = dir.file("events.ecd");
+  ASSERT_EQ(runAsynevo("convert --dataset " + a + " --out " + named + " --out-format ecd").exit_code, 0);
+  EXPECT_EQ(bytesOf(named), bytesOf(text));
+  const auto unknown = runAsynevo("convert --dataset " + a + " --out " + dir.file("x.bin"));
+  EXPECT_NE(unknown.exit_code, 0);
+  EXPECT_NE(unknown.output.find("cannot tell the output format from the file name"), std::string::npos)
+      << unknown.output;
+  EXPECT_EQ(runAsynevo("convert --dataset " + a + " --out " + named + " --out-format csv").exit_code, 105);
+}
+
+// DSEC-style HDF5 -> aevt -> ECD text: the same events at every step (the size comes from --sensor).
+TEST(ConvertCommand, DsecHdf5ToAevtAndEcdTextKeepsEveryEvent) {
+  TempDir dir;
+  const auto h5 = dir.file("events.h5");
+  const testing::DsecEvents events = testing::syntheticDsecEvents(5000);
+  testing::DsecLayout layout;
+  layout.t_offset_us = 49'599'300'523;
+  testing::writeDsecEvents(h5, events, layout);
+  const auto aevt = dir.file("events.aevt");
+  const auto text = dir.file("events.txt");
+  const auto to_aevt = runAsynevo("convert --dataset " + h5 + " --sensor 640x480 --out " + aevt);
+  ASSERT_EQ(to_aevt.exit_code, 0) << to_aevt.output;
+  EXPECT_NE(to_aevt.output.find("wrote 5000 events (640x480)"), std::string::npos) << to_aevt.output;
+  ReaderOptions vga;
+  vga.width = 640;
+  vga.height = 480;
+  const std::vector<Event> original = readAllEvents(h5, vga);
+  EXPECT_EQ(readAllEvents(aevt), original);
+  ASSERT_EQ(runAsynevo("convert --dataset " + aevt + " --out " + text).exit_code, 0);
+  EXPECT_EQ(readAllEvents(text, vga), original);
+  const auto info = runAsynevo("info --dataset " + h5 + " --sensor 640x480");
+  EXPECT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_NE(info.output.find("format        dsec"), std::string::npos) << info.output;
+  const auto no_size = runAsynevo("info --dataset " + h5);
+  EXPECT_NE(no_size.exit_code, 0);
+  EXPECT_NE(no_size.output.find("DSEC-style HDF5 files store no sensor size"), std::string::npos) << no_size.output;
 }
 
 }  // namespace

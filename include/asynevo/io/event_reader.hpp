@@ -17,7 +17,8 @@ namespace asynevo {
 
 struct ReaderOptions {
   /// "auto", "ecd", "mvsec", "aevt", "evt3" (Prophesee RAW EVT 3.0), "evt2" (Prophesee RAW EVT 2.0),
-  /// "dat" (Prophesee DAT), "aedat4" (iniVation AEDAT 4.0), "rosbag" (ROS1 bag, format 2.0)
+  /// "dat" (Prophesee DAT), "aedat4" (iniVation AEDAT 4.0), "rosbag" (ROS1 bag, format 2.0), "dsec"
+  /// (DSEC-style HDF5: DSEC, TUM-VIE, M3ED)
   std::string format = "auto";
   /// The topic of a container with several event streams (ROS bag); "" = the only event topic.
   std::string topic;
@@ -33,7 +34,7 @@ struct ReaderOptions {
 /// What a reader knows about its stream without reading it all.
 struct StreamInfo {
   std::string path;     ///< the event file
-  std::string format;   ///< "ecd", "mvsec", "aevt", "evt3", "evt2", "dat", "aedat4", "rosbag"
+  std::string format;   ///< "ecd", "mvsec", "aevt", "evt3", "evt2", "dat", "aedat4", "rosbag", "dsec"
   int width = 0;
   int height = 0;
   std::string size_origin;  ///< where width and height came from: ReaderOptions::size_origin, or the format's

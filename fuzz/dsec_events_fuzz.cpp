@@ -1,0 +1,7 @@
+// Fuzz harness: the DSEC-style HDF5 event reader (docs/reliability.md), with DSEC's 640x480 sensor size
+// (the files state none).
+#include "event_reader_harness.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  return asynevo::fuzz::fuzzEventReader(data, size, "dsec", ".h5", 640, 480);
+}
