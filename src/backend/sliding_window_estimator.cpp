@@ -44,6 +44,7 @@ bool finiteKnot(const Knot& knot) {
 SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options)
     : options_(options),
       knot_dt_ns_(std::llround(options.config.knot_dt_ms * 1e6)),
+      measurement_dt_ns_(std::llround(options.config.track_measurement_dt_ms * 1e6)),
       se3_manifold_(std::make_unique<SE3Manifold>()),
       huber_(std::make_shared<ceres::HuberLoss>(options.config.huber_px / options.config.pixel_sigma)) {
   options_.config.validate();
@@ -75,6 +76,10 @@ void SlidingWindowEstimator::addMeasurement(const TrackMeasurement& m) {
   track.id = m.feature_id;
   if (!track.observations.empty() && m.t_ns < track.lastTime()) {
     ++stats_.measurements_out_of_order;
+    return;
+  }
+  if (!track.observations.empty() && m.t_ns - track.lastTime() < measurement_dt_ns_) {
+    ++stats_.measurements_subsampled;
     return;
   }
   track.observations.push_back({m.t_ns, Eigen::Vector2d(m.xn, m.yn)});

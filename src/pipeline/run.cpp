@@ -286,6 +286,7 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("measurements_received", e.measurements_received)
       .add("measurements_before_window", e.measurements_before_window)
       .add("measurements_out_of_order", e.measurements_out_of_order)
+      .add("measurements_subsampled", e.measurements_subsampled)
       .add("knots", e.knots)
       .add("updates", e.updates)
       .add("landmarks_created", e.landmarks_created);

@@ -63,6 +63,7 @@ struct EstimatorStats {
   uint64_t measurements_received = 0;
   uint64_t measurements_before_window = 0;  ///< arrived for a time older than the window: dropped
   uint64_t measurements_out_of_order = 0;   ///< earlier than the same feature's previous one: dropped
+  uint64_t measurements_subsampled = 0;     ///< within track_measurement_dt_ms of the track's previous one
   uint64_t knots = 0;
   uint64_t updates = 0;
   uint64_t landmarks_created = 0;

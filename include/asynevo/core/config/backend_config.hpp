@@ -46,6 +46,10 @@ struct BackendConfig {
   /// discards them (the prior stays on knots only). docs/backend.md, "Forced marginalization".
   std::string forced_marginalization = "fixed_poses";
 
+  /// Measurements of one track closer in time than this to the previous one kept are not used (0 = all):
+  /// along a track the GP interpolation makes neighbouring measurements highly correlated.
+  double track_measurement_dt_ms = 0.0;
+
   // --- solver ---
   int max_iterations = 5;
   double max_solver_time_s = 0.2;
@@ -106,6 +110,8 @@ struct BackendConfig {
       "the WNOA prior does not pull on the monocular scale (Jacobian projected off the scale direction)");
     v("forced_marginalization", forced_marginalization,
       "measurements of active landmarks at marginalized knots: fixed_poses, prior or drop");
+    v("track_measurement_dt_ms", track_measurement_dt_ms,
+      "a track's measurements closer than this to its previous one kept are not used [ms] (0 = all)");
     v("max_iterations", max_iterations, "Levenberg-Marquardt iterations per window solve");
     v("max_solver_time_s", max_solver_time_s, "wall-time cap per window solve [s]");
     v("solver_threads", solver_threads, "Ceres threads (1 = deterministic)");
