@@ -3,6 +3,7 @@
 // event time) and measures its accuracy against the synthetic scene's ground truth.
 
 #include <cmath>
+#include <functional>
 #include <vector>
 
 #include "asynevo/backend/estimator.hpp"
@@ -41,12 +42,14 @@ struct Accuracy {
   double path_length = 0;   ///< ground-truth path over the knots, metres
 };
 
-inline Accuracy accuracy(const std::vector<backend::Knot>& knots) {
+/// Accuracy against a ground-truth trajectory (the synthetic scene's by default).
+inline Accuracy accuracy(const std::vector<backend::Knot>& knots,
+                         const std::function<lie::SE3(double)>& truth = &SyntheticScene::pose) {
   std::vector<Eigen::Vector3d> p_est, p_gt;
   std::vector<Eigen::Matrix3d> R_est, R_gt;
   double length = 0;
   for (const backend::Knot& k : knots) {
-    const lie::SE3 gt = SyntheticScene::pose(static_cast<double>(k.t_ns) * 1e-9);
+    const lie::SE3 gt = truth(static_cast<double>(k.t_ns) * 1e-9);
     if (!p_gt.empty()) length += (gt.translation() - p_gt.back()).norm();
     p_est.push_back(k.T_w_c().translation());
     R_est.push_back(k.T_w_c().rotation());

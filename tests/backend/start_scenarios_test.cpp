@@ -1,5 +1,5 @@
 // Start scenarios of the initialization issue (docs/method/initialization.md): what must happen when the
-// camera does not move at first.
+// camera does not move at first, on a planar scene, and under a pure rotation.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -49,6 +49,12 @@ std::vector<TrackMeasurement> staticThenMoving(const SyntheticScene& scene, doub
   return out;
 }
 
+testing::EstimatorRun runScenario(const SyntheticScene& scene, double duration_s) {
+  const auto ms = scene.measurements(duration_s, 0.01, 0.4, 0.3);
+  SlidingWindowEstimator estimator(testing::syntheticSceneOptions());
+  return testing::driveEstimator(estimator, ms, duration_s);
+}
+
 TEST(StartScenarios, TwoSecondsOfStaticCameraWaitForMotionThenStartWithinHalfASecondOfIt) {
   const SyntheticScene scene(150);
   const double still = 2.0, moving = 2.0;
@@ -71,6 +77,52 @@ TEST(StartScenarios, TwoSecondsOfStaticCameraWaitForMotionThenStartWithinHalfASe
   }
   ASSERT_GT(shifted.size(), 20u);
   const auto a = testing::accuracy(shifted);
+  EXPECT_LT(a.ate_rmse, 0.03 * a.path_length) << a.ate_rmse << " over " << a.path_length;
+}
+
+TEST(StartScenarios, APlanarSceneStartsAndIsTracked) {
+  // Every landmark on one plane, 4 m ahead and tilted (a wall or a poster): the essential matrix of a
+  // plane is not unique, the five-point RANSAC with the chirality and parallax checks must still pick the
+  // motion. The camera follows the synthetic scene's 6-DoF trajectory.
+  SyntheticScene scene(0);
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> ux(-3.0, 3.5), uy(-2.0, 2.0);
+  for (int i = 0; i < 150; ++i) {
+    const double x = ux(rng), y = uy(rng);
+    scene.landmarks.emplace_back(x, y, 4.0 + 0.3 * x - 0.2 * y);
+  }
+  const auto run = runScenario(scene, 3.0);
+  ASSERT_TRUE(run.stats.initialized) << run.stats.init_last_failure;
+  // Measured: a multi-view start at 0.50 s (11 attempts; the two-view start is relaxed at 0.5 s and
+  // fails first), ATE 0.57 % of the path.
+  EXPECT_LE(run.stats.initialized_at_ns, 550'000'000);
+  ASSERT_EQ(run.stats.segments.size(), 1u);
+  const auto a = testing::accuracy(run.knots);
+  EXPECT_LT(a.ate_rmse, 0.02 * a.path_length) << a.ate_rmse << " over " << a.path_length;
+}
+
+// Known failure (docs/method/initialization.md, "Limits"): under a pure rotation whose rate changes,
+// the relaxed two-view start accepts the motion at 0.50 s, before the camera translates (under a pure
+// rotation the essential matrix's rotation is noise, and so is the parallax left by it), and the run
+// ends at 5.5 % ATE. Rejecting the two-view start where a pure rotation explains the inliers to within
+// 1–2 px moved the start to the multi-view one at 0.55 s (6.4 %: its constant rotation rate leaves the
+// rest as parallax) and also rejected the slow-translation starts of the synthetic scene. Enable when
+// the start tells the two apart.
+TEST(StartScenarios, DISABLED_PureRotationWaitsThenStartsOnceTheCameraTranslates) {
+  // 1 s of rotation about the camera centre (about 0.5 rad of yaw and 0.2 rad of pitch back and forth),
+  // then the same rotation with 0.3 m/s of sideways translation.
+  SyntheticScene scene(200);
+  const auto truth = [](double t) {
+    const Eigen::Vector3d omega(0.3, 0.8, 0.0);
+    const double moving = std::max(t - 1.0, 0.0);
+    return lie::SE3(lie::so3::exp(omega * std::sin(t) * 0.6), Eigen::Vector3d(0.3 * moving, 0.0, 0.05 * moving));
+  };
+  scene.trajectory = truth;
+  const auto run = runScenario(scene, 3.0);
+  ASSERT_TRUE(run.stats.initialized) << run.stats.init_last_failure;
+  EXPECT_GT(run.stats.initialized_at_ns, 1'000'000'000) << "no start before the camera translates";
+  EXPECT_LE(run.stats.initialized_at_ns, 1'550'000'000) << "a start within 0.5 s of the translation";
+  const auto a = testing::accuracy(run.knots, truth);
   EXPECT_LT(a.ate_rmse, 0.03 * a.path_length) << a.ate_rmse << " over " << a.path_length;
 }
 
