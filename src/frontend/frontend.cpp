@@ -206,7 +206,9 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
       neighbour_check_ns_(std::max<int64_t>(1, msToNs(config.neighbour_check_ms))),
       neighbour_window_ns_(std::max<int64_t>(1, msToNs(config.neighbour_window_ms))),
       max_rotation_rad_(static_cast<float>(config.max_rotation_deg * kPi / 180.0)),
-      border_margin_(static_cast<float>(config.border_margin_px)) {
+      border_margin_(static_cast<float>(config.border_margin_px)),
+      min_distance_px_(config.min_distance_px * config.distanceScale(width_, height_)),
+      neighbour_radius_px_(config.neighbour_radius_px * config.distanceScale(width_, height_)) {
   config.validate();
   stats_.harris_threshold = stats_.min_harris_threshold = config.harris_threshold;
   if (config.hot_pixel_filter)
@@ -445,7 +447,7 @@ void Frontend::trySeed(const Event& e) {
         y <= float(height_ - 1) - border_margin_))
     return;
   // Patch search: no registered feature within min_distance.
-  const double d = config_.min_distance_px;
+  const double d = min_distance_px_;
   const int r = static_cast<int>(std::floor(d));
   for (int yy = std::max(e.y - r, 0); yy <= std::min(e.y + r, height_ - 1); ++yy) {
     const int64_t* row = &registration_[static_cast<std::size_t>(yy) * width_];
@@ -613,7 +615,7 @@ void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
   }
   const int n = static_cast<int>(candidates_.size());
   if (n < 4) return;
-  const float radius2 = static_cast<float>(config_.neighbour_radius_px * config_.neighbour_radius_px);
+  const float radius2 = static_cast<float>(neighbour_radius_px_ * neighbour_radius_px_);
   const float limit = static_cast<float>(config_.max_neighbour_disagreement_px);
   auto median = [](std::vector<float>& v) {
     const std::size_t m = v.size() / 2;

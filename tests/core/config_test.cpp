@@ -132,6 +132,26 @@ TEST(Config, AFeatureBudgetLargerThanTheSensorHoldsIsRejectedWithItsKeys) {
   EXPECT_THROW(config.validateForSensor(), ConfigError);
 }
 
+TEST(Config, TheResolutionRuleScalesDistancesWithTheDiagonal) {
+  FrontendConfig f;
+  EXPECT_DOUBLE_EQ(f.distanceScale(640, 480), 1.0);  // off by default
+  f.scale_distances = true;
+  EXPECT_DOUBLE_EQ(f.distanceScale(240, 180), 1.0);
+  EXPECT_DOUBLE_EQ(f.distanceScale(640, 480), 800.0 / 300.0);
+  EXPECT_NEAR(f.distanceScale(1280, 720), 4.896, 1e-3);
+  // The feature-budget check uses the scaled distance: 60 features 15 x 2.67 = 40 px apart fit 640x480
+  // (196), 250 do not.
+  Config config;
+  config.frontend.scale_distances = true;
+  config.sensor.width = 640;
+  config.sensor.height = 480;
+  config.validateForSensor();
+  config.frontend.max_features = 250;
+  EXPECT_THROW(config.validateForSensor(), ConfigError);
+  config.frontend.scale_distances = false;
+  config.validateForSensor();
+}
+
 TEST(Config, MissingFileIsAnInputError) {
   EXPECT_THROW(loadConfig("/nonexistent/asynevo.yaml"), InputError);
 }

@@ -290,6 +290,8 @@ class Frontend {
   int64_t neighbour_window_ns_;
   float max_rotation_rad_;
   float border_margin_;
+  double min_distance_px_;     ///< config.min_distance_px x config.distanceScale
+  double neighbour_radius_px_;  ///< config.neighbour_radius_px x config.distanceScale
   FrontendStats stats_;
 };
 

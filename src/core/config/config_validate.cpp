@@ -137,7 +137,7 @@ void Config::validateForSensor() const {
                                   "sensor",
                                   frontend.border_margin_px, sensor.width, sensor.height));
   if (frontend.min_distance_px > 0) {
-    const double d = frontend.min_distance_px;
+    const double d = frontend.min_distance_px * frontend.distanceScale(sensor.width, sensor.height);
     const int capacity = static_cast<int>(inner_w * inner_h / (std::sqrt(3.0) / 2.0 * d * d)) + 1;
     if (frontend.max_features > capacity)
       throw ConfigError(fmt::format(

@@ -5,6 +5,7 @@
 // RA-L 2018; FA-Harris: Li et al., IROS 2019; HASTE: Alzugaray & Chli, BMVC 2020), see
 // shared/reference/frontend.md §5.2 and §6.6.
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -49,6 +50,10 @@ struct FrontendConfig {
   // --- feature management -----------------------------------------------------------------------
   int max_features = 60;             ///< active features at most (seeding stops at this number)
   double min_distance_px = 15.0;     ///< patch search: no new feature within this of an active one
+  /// Resolution rule: min_distance_px and neighbour_radius_px are given for a 240x180 image (diagonal
+  /// 300 px) and scale with the frontend image's diagonal (distanceScale), so a feature budget spreads
+  /// over a larger sensor as it does over a DAVIS240C. Off: both are used as given.
+  bool scale_distances = false;
   double border_margin_px = 16.0;    ///< features are removed (and never seeded) this close to the border
   double collision_radius_px = 1.5;  ///< two features closer than this: the younger one is dropped
   double min_dt_ms = 5.0;            ///< minimum event time between two recorded measurements of a feature
@@ -114,6 +119,9 @@ struct FrontendConfig {
     v("max_features", max_features, "most features tracked at once; seeding stops at this number");
     v("min_distance_px", min_distance_px,
       "a corner seeds a feature only when no active feature is within this distance (patch search)");
+    v("scale_distances", scale_distances,
+      "resolution rule: min_distance_px and neighbour_radius_px are for a 240x180 image and scale with the "
+      "frontend image's diagonal (x diagonal / 300 px)");
     v("border_margin_px", border_margin_px,
       "features closer than this to the image border are removed and never seeded there");
     v("collision_radius_px", collision_radius_px,
@@ -156,6 +164,11 @@ struct FrontendConfig {
       "(false: the tracker's 1-px state)");
   }
   void validate() const;
+  /// The factor on min_distance_px and neighbour_radius_px for a frontend image of width x height:
+  /// diagonal / 300 px with scale_distances, else 1.
+  double distanceScale(int width, int height) const {
+    return scale_distances ? std::hypot(static_cast<double>(width), static_cast<double>(height)) / 300.0 : 1.0;
+  }
 };
 
 }  // namespace asynevo
