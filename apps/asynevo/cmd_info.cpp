@@ -109,6 +109,18 @@ void runInfo(const InfoOptions& options) {
     fmt::print("imu           {} samples (counted, not used)\n", reader->stats().imu_samples);
   if (info.format == "rosbag") {
     printBagTopics(reader->stats().streams);
+    // EventPacket events carry the camera's clock; the first packet's header stamp is ROS time
+    // (docs/reference/formats_rosbag.md#clocks).
+    for (const ContainerStream& t : reader->stats().streams) {
+      if (!t.delivered) continue;
+      if (const std::optional<int64_t> stamp = rosbagFirstPacketStamp(files.events, t.name)) {
+        char ros[32];
+        formatNsAsSeconds(*stamp, ros);
+        fmt::print("clocks        events in the camera's clock (first event {} s); the first packet's header stamp "
+                   "(ROS time) is {} s: ROS time - camera time = {:.6f} s, up to the driver's latency\n",
+                   first, ros, nsToSeconds(*stamp - stats.first_t_ns));
+      }
+    }
   } else {
     printContainerStreams(reader->stats().streams);
   }

@@ -42,6 +42,8 @@ constexpr const char* kTransformStamped = "geometry_msgs/TransformStamped";
 constexpr const char* kTransformStampedMd5 = "b5764a33bfeb3588febc2682852579b0";
 constexpr const char* kOdometry = "nav_msgs/Odometry";
 constexpr const char* kOdometryMd5 = "cd5e73d190d741a2f92e81eda573aca7";
+constexpr const char* kEventPacket = "event_camera_msgs/EventPacket";
+constexpr const char* kEventPacketMd5 = "8a6101b351a64529ac77bd8b71074e52";
 constexpr const char* kCameraInfo = "sensor_msgs/CameraInfo";
 constexpr const char* kCameraInfoMd5 = "c9a58c1b0b154e0e6da7578cb991d214";
 
@@ -198,6 +200,23 @@ std::optional<BagGroundTruth> readRosbagGroundTruth(const std::string& path, con
   if (gt.poses.empty())
     throw InputError(path, fmt::format("the pose topic {} ({}) has no messages", gt.topic, gt.type));
   return gt;
+}
+
+std::optional<int64_t> rosbagFirstPacketStamp(const std::string& path, const std::string& topic) {
+  io_detail::BagTopicQuery query;
+  query.types = {{kEventPacket, kEventPacketMd5}};
+  for (const std::string& name : topicsOfTypes(path, {kEventPacket})) {
+    if (name == topic) query.topic = topic;
+  }
+  if (query.topic.empty()) return std::nullopt;
+  query.flag = "--topic";
+  query.what = "event packet";
+  io_detail::RosbagReader bag(path, query);
+  const unsigned char* data = nullptr;
+  std::size_t size = 0;
+  if (!bag.nextRawMessage(data, size)) return std::nullopt;
+  Cursor m(bag, data, size);
+  return m.header();
 }
 
 std::optional<BagCalibration> readRosbagCalibration(const std::string& path) {

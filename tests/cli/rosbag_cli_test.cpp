@@ -152,5 +152,14 @@ TEST(RosbagCli, CameraInfoOfAnotherSizeIsAnError) {
       << with_file.output;
 }
 
+TEST(RosbagCli, InfoShowsBothClocksOfAnEventPacketBag) {
+  const std::string path = std::string(ASYNEVO_SHARED_DATA_DIR) + "/formats/rosbag/test_events_1.bag";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found (the shared data folder is missing)";
+  const auto result = runAsynevo("info --dataset " + path);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("clocks        events in the camera's clock (first event "), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("the first packet's header stamp (ROS time) is "), std::string::npos) << result.output;
+}
+
 }  // namespace
 }  // namespace asynevo

@@ -48,6 +48,10 @@ struct BagCalibration {
 /// no such topic or the topic has no message. Several CameraInfo topics are an InputError listing them.
 std::optional<BagCalibration> readRosbagCalibration(const std::string& path);
 
+/// The header stamp (ROS time, ns) of the first message of an event_camera_msgs/EventPacket topic, whose
+/// events carry the camera's clock instead; std::nullopt when `topic` is not such a topic or has no message.
+std::optional<int64_t> rosbagFirstPacketStamp(const std::string& path, const std::string& topic);
+
 /// "FILE (topic NAME)": how a bag's topic is named as a source in summaries and messages.
 std::string bagTopicSource(const std::string& path, const std::string& topic);
 
