@@ -70,7 +70,7 @@ void printBagTopics(const std::vector<ContainerStream>& topics) {
 void runInfo(const InfoOptions& options) {
   const Config config = options.config.empty() ? Config() : loadConfig(options.config);
   const DatasetFiles files = resolveDataset(options.dataset, options.format);
-  checkGroundTruthTopicOption(files, options.gt_topic);
+  checkGroundTruthChoice(files, options.gt_topic);
   std::vector<std::string> notes;
   const ReaderOptions reader_options =
       datasetReaderOptions(files, config, {options.format, options.sensor, "", options.config, options.topic}, &notes);

@@ -128,15 +128,17 @@ std::pair<int, int> sensorSizeFromCalibration(const DatasetFiles& files) {
   return {camera.width(), camera.height()};
 }
 
-void checkGroundTruthTopicOption(const DatasetFiles& files, const std::string& gt_topic) {
-  if (!gt_topic.empty() && !isRosbag(files.events)) {
+void checkGroundTruthChoice(const DatasetFiles& files, const std::string& gt_topic) {
+  const bool bag = isRosbag(files.events);
+  if (!gt_topic.empty() && !bag) {
     throw InputError(files.events, std::string(kGroundTruthTopicFlag) + " '" + gt_topic +
                                        "' names a topic of a ROS bag, but the events file is not a ROS bag");
   }
+  if (bag && (!gt_topic.empty() || !files.groundtruth)) checkRosbagPoseTopic(files.events, gt_topic);
 }
 
 std::optional<DatasetGroundTruth> loadDatasetGroundTruth(const DatasetFiles& files, const std::string& gt_topic) {
-  checkGroundTruthTopicOption(files, gt_topic);
+  checkGroundTruthChoice(files, gt_topic);
   const bool bag = isRosbag(files.events);
   DatasetGroundTruth gt;
   if (bag && !gt_topic.empty()) {

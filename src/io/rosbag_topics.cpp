@@ -166,14 +166,26 @@ std::vector<std::string> rosbagPoseTopics(const std::string& path) {
 
 std::vector<std::string> rosbagCameraInfoTopics(const std::string& path) { return topicsOfTypes(path, {kCameraInfo}); }
 
-std::optional<BagGroundTruth> readRosbagGroundTruth(const std::string& path, const std::string& topic) {
+namespace {
+
+io_detail::BagTopicQuery poseQuery(const std::string& topic) {
   io_detail::BagTopicQuery query;
   query.types = {{kPoseStamped, kPoseStampedMd5}, {kTransformStamped, kTransformStampedMd5}, {kOdometry, kOdometryMd5}};
   query.topic = topic;
   query.flag = kGroundTruthTopicFlag;
   query.what = "pose";
   query.choose = "; choose one with --gt-topic NAME";
-  io_detail::RosbagReader bag(path, query);
+  return query;
+}
+
+}  // namespace
+
+void checkRosbagPoseTopic(const std::string& path, const std::string& topic) {
+  const io_detail::RosbagReader bag(path, poseQuery(topic));
+}
+
+std::optional<BagGroundTruth> readRosbagGroundTruth(const std::string& path, const std::string& topic) {
+  io_detail::RosbagReader bag(path, poseQuery(topic));
   if (!bag.hasTopic()) return std::nullopt;
   BagGroundTruth gt;
   gt.topic = bag.topic();

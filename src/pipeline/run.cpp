@@ -80,7 +80,7 @@ RunSummary runDataset(const RunOptions& options,
     throw InputError(files.root,
                      std::string("no camera calibration: the dataset folder has no calib.txt or Kalibr camchain .yaml") +
                          (bag ? " and the bag no sensor_msgs/CameraInfo topic" : "") + "; pass --calib FILE");
-  checkGroundTruthTopicOption(files, options.gt_topic);
+  checkGroundTruthChoice(files, options.gt_topic);
 
   // The sensor size by precedence: --sensor, the configuration's sensor block, sensor.yaml, a camchain's
   // resolution, the format (io/sensor_size.hpp).

@@ -105,6 +105,11 @@ TEST(RosbagCli, TwoPoseTopicsNeedGtTopic) {
                                "/odom (nav_msgs/Odometry, 31 messages); choose one with --gt-topic NAME"),
             std::string::npos)
       << result.output;
+  // run stops before reading any event, not after the estimate.
+  const auto run = runAsynevo("run --dataset " + path + " --out " + dir.file("run"));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("choose one with --gt-topic NAME"), std::string::npos) << run.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("run") + "/stats.json"));
   const auto chosen = runAsynevo("info --dataset " + path + " --gt-topic /odom");
   EXPECT_EQ(chosen.exit_code, 0) << chosen.output;
   EXPECT_NE(chosen.output.find("(topic /odom)\n              31 poses"), std::string::npos) << chosen.output;

@@ -295,7 +295,7 @@ TEST(RosbagGroundTruth, DatasetPrecedence) {
   // --gt-topic with events that are not a bag.
   std::filesystem::create_directories(dir.path() / "ecd");
   dir.write("ecd/events.txt", "0.1 1 1 1\n");
-  EXPECT_NE(bagError([&] { checkGroundTruthTopicOption(resolveDataset(dir.file("ecd")), "/pose"); })
+  EXPECT_NE(bagError([&] { checkGroundTruthChoice(resolveDataset(dir.file("ecd")), "/pose"); })
                 .find("--gt-topic '/pose' names a topic of a ROS bag, but the events file is not a ROS bag"),
             std::string::npos);
 }

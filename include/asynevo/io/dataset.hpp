@@ -53,7 +53,10 @@ struct DatasetGroundTruth {
 /// std::nullopt when there is none. Read errors are InputErrors.
 std::optional<DatasetGroundTruth> loadDatasetGroundTruth(const DatasetFiles& files, const std::string& gt_topic = "");
 
-/// Fails early (InputError) when --gt-topic is given but the dataset's events are not a ROS bag.
-void checkGroundTruthTopicOption(const DatasetFiles& files, const std::string& gt_topic);
+/// Checks, before any event is read, what loadDatasetGroundTruth would fail on for want of a choice: an
+/// InputError when --gt-topic is given but the events are not a ROS bag, when it names a topic the bag
+/// lacks (or of another type or revision), or when no file wins and the bag has several pose topics.
+/// Only the bag's index is read.
+void checkGroundTruthChoice(const DatasetFiles& files, const std::string& gt_topic);
 
 }  // namespace asynevo

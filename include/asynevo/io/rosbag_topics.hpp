@@ -32,6 +32,10 @@ struct BagGroundTruth {
 /// non-decreasing.
 std::optional<BagGroundTruth> readRosbagGroundTruth(const std::string& path, const std::string& topic = "");
 
+/// What readRosbagGroundTruth checks before decoding a message (the index only): the named topic exists,
+/// is of a pose type and of the known revision, or without a name there is at most one pose topic.
+void checkRosbagPoseTopic(const std::string& path, const std::string& topic = "");
+
 /// The bag's topics of a pose type (the index only; nothing is decoded).
 std::vector<std::string> rosbagPoseTopics(const std::string& path);
 
