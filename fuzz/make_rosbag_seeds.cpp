@@ -1,4 +1,4 @@
-// Writes the ROS bag seeds of fuzz/corpus/rosbag_events with the test suite's specification-built
+// Writes the ROS bag seeds of fuzz/corpus/rosbag_events and fuzz/corpus/rosbag_topics with the test suite's specification-built
 // fixture (tests/io/rosbag_fixture.hpp). Not part of the build; run once:
 //   g++ -std=c++17 -I tests fuzz/make_rosbag_seeds.cpp -llz4 -lbz2 -o /tmp/rosbag_seeds
 //   /tmp/rosbag_seeds fuzz/corpus
@@ -58,6 +58,33 @@ std::string packets() {
   return bag::buildBag({kPackets}, {chunk});
 }
 
+const bag::Connection kPose{3, "/pose", bag::kPoseStampedType, bag::kPoseStampedMd5, "-"};
+const bag::Connection kTf{4, "/tf_cam", bag::kTransformStampedType, bag::kTransformStampedMd5, "-"};
+const bag::Connection kOdom{5, "/odom", bag::kOdometryType, bag::kOdometryMd5, "-"};
+const bag::Connection kInfo{6, "/camera_info", bag::kCameraInfoType, bag::kCameraInfoMd5, "-"};
+
+/// Events, a pose topic of `pose`'s type (3 messages) and a CameraInfo of `model`.
+std::string topics(const bag::Connection& pose, const std::string& model, const std::vector<double>& d,
+                   const std::string& compression = "none", std::string (*compress)(const std::string&) = nullptr) {
+  std::vector<bag::Message> m;
+  m.push_back({6, 1'000'000'000ull, bag::cameraInfo(64, 32, model, d, 50, 51, 32, 16)});
+  m.push_back({0, 1'000'000'000ull, bag::eventArray(64, 32, {{1, 2, 1'000'000'000ull, true}})});
+  for (int i = 0; i < 3; ++i) {
+    bag::Pose p;
+    p.px = 0.1 * i;
+    p.qz = 0.1 * i;
+    p.qw = 1;
+    const uint64_t t = 1'000'000'000ull + i * 10'000'000ull;
+    const std::string data = pose.id == 3   ? bag::poseStamped(t, p)
+                             : pose.id == 4 ? bag::transformStamped(t, p)
+                                            : bag::odometry(t, p);
+    m.push_back({pose.id, t, data});
+  }
+  bag::Chunk chunk{m, compression, nullptr};
+  if (compress != nullptr) chunk.compress = compress;
+  return bag::buildBag({kDvs, pose, kInfo}, {chunk});
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -75,5 +102,13 @@ int main(int argc, char** argv) {
   for (const auto& [name, bytes] : seeds) std::ofstream(dir + name, std::ios::binary) << bytes;
   const std::string cut = dvs("lz4", lz4);
   std::ofstream(dir + "seed_truncated.bag", std::ios::binary) << cut.substr(0, cut.size() - 7);
+
+  const std::string topics_dir = std::string(argv[1]) + "/rosbag_topics/";
+  const std::pair<const char*, std::string> topic_seeds[] = {
+      {"seed_posestamped_radtan.bag", topics(kPose, "plumb_bob", {-0.3, 0.1, 0.001, 0.002, 0.01})},
+      {"seed_transform_equidistant.bag", topics(kTf, "equidistant", {0.1, 0.01, 0.001, 0.0001})},
+      {"seed_odometry_pinhole_lz4.bag", topics(kOdom, "plumb_bob", {}, "lz4", lz4)},
+  };
+  for (const auto& [name, bytes] : topic_seeds) std::ofstream(topics_dir + name, std::ios::binary) << bytes;
   return 0;
 }

@@ -14,15 +14,18 @@
 #include "asynevo/eval/segments.hpp"
 #include "asynevo/eval/timing.hpp"
 #include "commands.hpp"
+#include "sensor_option.hpp"
 
 namespace asynevo::cli {
 
 void addEvalCommand(CLI::App& app) {
-  static std::string gt, est, align = "sim3", out, velocities, segments;
+  static std::string gt, gt_topic, est, align = "sim3", out, velocities, segments;
   static int align_frames = -1;
   static std::vector<double> rel_lengths;
   auto* cmd = app.add_subcommand("eval", "Evaluate an estimated trajectory against ground truth");
-  cmd->add_option("--gt", gt, "ground-truth trajectory (TUM: t tx ty tz qx qy qz qw)")->required();
+  cmd->add_option("--gt", gt, "ground-truth trajectory (TUM: t tx ty tz qx qy qz qw, or a ROS bag with a pose topic)")
+      ->required();
+  addGtTopicOption(cmd, gt_topic);
   cmd->add_option("--est", est, "estimated trajectory (TUM)")->required();
   cmd->add_option("--align", align, "alignment (sim3, se3, posyaw, none)")
       ->check(CLI::IsMember({"sim3", "se3", "posyaw", "none"}));
@@ -42,6 +45,7 @@ void addEvalCommand(CLI::App& app) {
     eval::EvalOptions options;
     options.align = *eval::parseAlignType(align);
     options.align_frames = align_frames;
+    options.gt_topic = gt_topic;
     options.rel_lengths_m = rel_lengths;
     const std::string twists = velocities == "none" ? std::string()
                                : velocities.empty() ? eval::velocitiesBesideEstimate(est)

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "asynevo/io/event_reader.hpp"
 #include "asynevo/io/event_statistics.hpp"
 #include "asynevo/io/groundtruth_reader.hpp"
+#include "asynevo/io/rosbag_topics.hpp"
 #include "commands.hpp"
 #include "progress.hpp"
 #include "sensor_option.hpp"
@@ -28,6 +30,7 @@ struct InfoOptions {
   std::string config;
   std::string sensor;
   std::string topic;
+  std::string gt_topic;
 };
 
 // The streams of a container file (AEDAT 4.0), one line each: id, type, name, size, packets, elements.
@@ -67,6 +70,7 @@ void printBagTopics(const std::vector<ContainerStream>& topics) {
 void runInfo(const InfoOptions& options) {
   const Config config = options.config.empty() ? Config() : loadConfig(options.config);
   const DatasetFiles files = resolveDataset(options.dataset, options.format);
+  checkGroundTruthChoice(files, options.gt_topic);
   std::vector<std::string> notes;
   const ReaderOptions reader_options =
       datasetReaderOptions(files, config, {options.format, options.sensor, "", options.config, options.topic}, &notes);
@@ -105,6 +109,18 @@ void runInfo(const InfoOptions& options) {
     fmt::print("imu           {} samples (counted, not used)\n", reader->stats().imu_samples);
   if (info.format == "rosbag") {
     printBagTopics(reader->stats().streams);
+    // EventPacket events carry the camera's clock; the first packet's header stamp is ROS time
+    // (docs/reference/formats_rosbag.md#clocks).
+    for (const ContainerStream& t : reader->stats().streams) {
+      if (!t.delivered) continue;
+      if (const std::optional<int64_t> stamp = rosbagFirstPacketStamp(files.events, t.name)) {
+        char ros[32];
+        formatNsAsSeconds(*stamp, ros);
+        fmt::print("clocks        events in the camera's clock (first event {} s); the first packet's header stamp "
+                   "(ROS time) is {} s: ROS time - camera time = {:.6f} s, up to the driver's latency\n",
+                   first, ros, nsToSeconds(*stamp - stats.first_t_ns));
+      }
+    }
   } else {
     printContainerStreams(reader->stats().streams);
   }
@@ -112,25 +128,43 @@ void runInfo(const InfoOptions& options) {
     fmt::print("skipped       {} encoded words (vendor extension words, events before the first time base)\n",
                reader->stats().ignored_words);
   }
+  // Calibration: a file beside the events (calib.txt, a camchain) wins over a bag's CameraInfo topic.
+  const bool bag = info.format == "rosbag";
   if (files.calibration) {
     const CameraModel camera = readCalibration(*files.calibration, info.width, info.height);
     fmt::print("calibration   {}\n              {}\n", *files.calibration, camera.summary());
     if (camera.width() != info.width || camera.height() != info.height)
       fmt::print("              warning: calibration is {}x{} but the events are {}x{}\n", camera.width(),
                  camera.height(), info.width, info.height);
+    if (bag && !rosbagCameraInfoTopics(files.events).empty())
+      fmt::print("              note: the bag's sensor_msgs/CameraInfo topic is not used (the file wins)\n");
+  } else if (const std::optional<BagCalibration> calib = bag ? readRosbagCalibration(files.events) : std::nullopt) {
+    fmt::print("calibration   {}\n              {}\n", bagTopicSource(files.events, calib->topic),
+               calib->camera.summary());
+    if (calib->camera.width() != info.width || calib->camera.height() != info.height)
+      fmt::print("              warning: the camera info is for {}x{} pixels but the events are {}x{} (a run stops "
+                 "with an error)\n",
+                 calib->camera.width(), calib->camera.height(), info.width, info.height);
   } else {
     fmt::print("calibration   none found (a run needs --calib)\n");
   }
-  if (files.groundtruth) {
-    const StampedTrajectory gt = readGroundTruth(*files.groundtruth);
+  const std::optional<DatasetGroundTruth> gt = loadDatasetGroundTruth(files, options.gt_topic);
+  if (gt) {
     char gt_first[32], gt_last[32];
-    formatNsAsSeconds(gt.front().t_ns, gt_first);
-    formatNsAsSeconds(gt.back().t_ns, gt_last);
-    const auto inside = std::count_if(gt.begin(), gt.end(), [&](const StampedPose& p) {
+    formatNsAsSeconds(gt->poses.front().t_ns, gt_first);
+    formatNsAsSeconds(gt->poses.back().t_ns, gt_last);
+    const auto inside = std::count_if(gt->poses.begin(), gt->poses.end(), [&](const StampedPose& p) {
       return p.t_ns >= stats.first_t_ns && p.t_ns <= stats.last_t_ns;
     });
-    fmt::print("ground truth  {}\n              {} poses, {} .. {} s, {} inside the event span\n", *files.groundtruth,
-               gt.size(), gt_first, gt_last, inside);
+    fmt::print("ground truth  {}\n              {} poses, {} .. {} s, {} inside the event span\n", gt->source,
+               gt->poses.size(), gt_first, gt_last, inside);
+    if (!gt->note.empty()) fmt::print("              note: {}\n", gt->note);
+    if (inside == 0) {
+      fmt::print("              warning: the ground truth and the events do not overlap in time{}\n",
+                 bag ? " (EventPacket events carry the camera's clock, poses ROS time: "
+                       "docs/reference/formats_rosbag.md#clocks)"
+                     : "");
+    }
   } else {
     fmt::print("ground truth  none\n");
   }
@@ -146,6 +180,7 @@ void addInfoCommand(CLI::App& app) {
   cmd->add_option("--config", options.config, "configuration YAML (sensor size, time tolerance)");
   addSensorOption(cmd, options.sensor);
   addTopicOption(cmd, options.topic);
+  addGtTopicOption(cmd, options.gt_topic);
   cmd->callback([] { runInfo(options); });
 }
 

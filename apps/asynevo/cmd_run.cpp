@@ -46,10 +46,12 @@ void addRunCommand(CLI::App& app) {
   cmd->add_option("--dataset", run.dataset, "ECD-style folder or event file")->required();
   cmd->add_option("--format", run.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag, dsec)")->capture_default_str();
   cmd->add_option("--calib", run.calib,
-                  "calibration file (ECD calib.txt or Kalibr YAML; default: the dataset's)");
+                  "calibration file (ECD calib.txt or Kalibr YAML; default: the dataset's, else a ROS bag's "
+                  "sensor_msgs/CameraInfo topic)");
   cmd->add_option("--config", run.config_path, "configuration YAML (overrides the defaults; see config/)");
   addSensorOption(cmd, run.sensor);
   addTopicOption(cmd, run.topic);
+  addGtTopicOption(cmd, run.gt_topic);
   cmd->add_option("--backend", options.backend,
                   "estimator: window (AsynEVO), incremental (full-history smoother baseline) or "
                   "incremental-frozen (the same with old knots held constant)")

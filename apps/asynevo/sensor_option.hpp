@@ -32,4 +32,13 @@ inline CLI::Option* addTopicOption(CLI::App* cmd, std::string& value) {
                          "needed only when the bag has several");
 }
 
+/// The --gt-topic NAME option of the commands that read ground truth (info, run, eval): which pose topic of a
+/// ROS bag is the ground truth (docs/reference/formats_rosbag.md#ground-truth).
+inline CLI::Option* addGtTopicOption(CLI::App* cmd, std::string& value) {
+  return cmd->add_option("--gt-topic", value,
+                         "ROS bag: the pose topic that is the ground truth (geometry_msgs/PoseStamped, "
+                         "geometry_msgs/TransformStamped or nav_msgs/Odometry); needed only when the bag has several; "
+                         "when given it wins over a groundtruth.txt beside the bag");
+}
+
 }  // namespace asynevo::cli

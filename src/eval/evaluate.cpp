@@ -2,8 +2,10 @@
 
 #include <fmt/format.h>
 
+#include "asynevo/core/error.hpp"
 #include "asynevo/core/time.hpp"
 #include "asynevo/eval/segments.hpp"
+#include "asynevo/io/rosbag_topics.hpp"
 #include "asynevo/io/trajectory_io.hpp"
 
 namespace asynevo::eval {
@@ -180,7 +182,19 @@ void addVelocityErrors(EvalResult& result, const StampedTrajectory& gt,
 EvalResult evaluateFiles(const std::string& gt_path, const std::string& est_path, const EvalOptions& options,
                          const std::string& velocities_path, const std::string& segments_path) {
   TrajectoryReadReport gt_report, est_report;
-  const StampedTrajectory gt = readTumTrajectory(gt_path, &gt_report);
+  StampedTrajectory gt;
+  if (isRosbag(gt_path)) {  // a bag's pose topic (docs/reference/formats_rosbag.md#ground-truth)
+    std::optional<BagGroundTruth> poses = readRosbagGroundTruth(gt_path, options.gt_topic);
+    if (!poses) {
+      throw InputError(gt_path, "the bag has no pose topic (geometry_msgs/PoseStamped, geometry_msgs/TransformStamped "
+                                "or nav_msgs/Odometry)");
+    }
+    gt = std::move(poses->poses);
+  } else {
+    if (!options.gt_topic.empty())
+      throw InputError(gt_path, "--gt-topic names a topic of a ROS bag, but the ground-truth file is not a ROS bag");
+    gt = readTumTrajectory(gt_path, &gt_report);
+  }
   const StampedTrajectory est = readTumTrajectory(est_path, &est_report);
   const std::vector<StampedTwist> twists =
       velocities_path.empty() ? std::vector<StampedTwist>{} : readVelocities(velocities_path);

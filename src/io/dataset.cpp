@@ -6,6 +6,8 @@
 
 #include "asynevo/core/error.hpp"
 #include "asynevo/io/calibration_io.hpp"
+#include "asynevo/io/groundtruth_reader.hpp"
+#include "asynevo/io/rosbag_topics.hpp"
 
 namespace asynevo {
 
@@ -124,6 +126,48 @@ std::pair<int, int> sensorSizeFromCalibration(const DatasetFiles& files) {
   if (!files.calibration || !isKalibrCalibration(*files.calibration)) return {0, 0};
   const CameraModel camera = readKalibrCalibration(*files.calibration);
   return {camera.width(), camera.height()};
+}
+
+void checkGroundTruthChoice(const DatasetFiles& files, const std::string& gt_topic) {
+  const bool bag = isRosbag(files.events);
+  if (!gt_topic.empty() && !bag) {
+    throw InputError(files.events, std::string(kGroundTruthTopicFlag) + " '" + gt_topic +
+                                       "' names a topic of a ROS bag, but the events file is not a ROS bag");
+  }
+  if (bag && (!gt_topic.empty() || !files.groundtruth)) checkRosbagPoseTopic(files.events, gt_topic);
+}
+
+std::optional<DatasetGroundTruth> loadDatasetGroundTruth(const DatasetFiles& files, const std::string& gt_topic) {
+  checkGroundTruthChoice(files, gt_topic);
+  const bool bag = isRosbag(files.events);
+  DatasetGroundTruth gt;
+  if (bag && !gt_topic.empty()) {
+    std::optional<BagGroundTruth> poses = readRosbagGroundTruth(files.events, gt_topic);
+    gt.poses = std::move(poses->poses);  // a named topic is found or the read throws
+    gt.source = bagTopicSource(files.events, poses->topic);
+    if (files.groundtruth) gt.note = "the file " + *files.groundtruth + " is not used (" + kGroundTruthTopicFlag + " given)";
+    return gt;
+  }
+  if (files.groundtruth) {
+    gt.poses = readGroundTruth(*files.groundtruth);
+    gt.source = *files.groundtruth;
+    if (bag) {
+      const std::vector<std::string> topics = rosbagPoseTopics(files.events);
+      std::string list;
+      for (const std::string& t : topics) list += (list.empty() ? "" : ", ") + t;
+      if (!list.empty()) {
+        gt.note = "the bag's pose topic(s) " + list + " not used: the file beside the bag wins (" +
+                  kGroundTruthTopicFlag + " NAME reads the bag's)";
+      }
+    }
+    return gt;
+  }
+  if (!bag) return std::nullopt;
+  std::optional<BagGroundTruth> poses = readRosbagGroundTruth(files.events);
+  if (!poses) return std::nullopt;
+  gt.poses = std::move(poses->poses);
+  gt.source = bagTopicSource(files.events, poses->topic);
+  return gt;
 }
 
 }  // namespace asynevo

@@ -228,6 +228,84 @@ RosbagReader::RosbagReader(const std::string& path, const ReaderOptions& options
   }
 }
 
+RosbagReader::RosbagReader(const std::string& path, const BagTopicQuery& query) : file_(openFile(path, "rb")) {
+  if (!file_) throw InputError(path, std::string("cannot open the bag: ") + std::strerror(errno));
+  info_.path = path;
+  info_.format = "rosbag";
+  raw_ = true;
+  if (std::fseek(file_.get(), 0, SEEK_END) != 0) throw InputError(path, "cannot seek in the file");
+  file_size_ = static_cast<uint64_t>(std::ftell(file_.get()));
+  std::rewind(file_.get());
+  char magic[kRosbagMagicBytes] = {};
+  if (std::fread(magic, 1, sizeof(magic), file_.get()) != sizeof(magic) ||
+      std::memcmp(magic, kRosbagMagic, sizeof(magic)) != 0) {
+    failAt(0, "not a ROS bag of format 2.0: the file does not start with '#ROSBAG V2.0'");
+  }
+  readIndex();
+  chooseQueriedTopic(query);
+}
+
+void RosbagReader::chooseQueriedTopic(const BagTopicQuery& query) {
+  collectTopics();
+  auto accepted = [&](const BagTopic& t) {
+    return std::any_of(query.types.begin(), query.types.end(), [&](const auto& a) { return a.first == t.type; });
+  };
+  auto list = [&](bool accepted_only) {
+    std::string text;
+    for (const BagTopic& t : topics_) {
+      if (accepted_only && !accepted(t)) continue;
+      text += (text.empty() ? "" : ", ") + fmt::format("{} ({}, {} messages)", t.name, t.type, t.messages);
+    }
+    return text.empty() ? std::string("none") : text;
+  };
+  std::string types;
+  for (const auto& a : query.types) types += (types.empty() ? "" : ", ") + a.first;
+  const BagTopic* chosen = nullptr;
+  if (!query.topic.empty()) {
+    for (const BagTopic& t : topics_) {
+      if (t.name == query.topic) chosen = &t;
+    }
+    if (chosen == nullptr) {
+      failAt(index_pos_, fmt::format("the bag has no topic '{}' ({}); its topics: {}", query.topic, query.flag,
+                                     list(false)));
+    }
+    if (!accepted(*chosen)) {
+      failAt(index_pos_, fmt::format("topic {} ({}) holds {} messages, not a {} type AsynEVO reads ({}); {} topics: {}",
+                                     chosen->name, query.flag, chosen->type, query.what, types, query.what, list(true)));
+    }
+  } else {
+    std::vector<const BagTopic*> found;
+    for (const BagTopic& t : topics_) {
+      if (accepted(t)) found.push_back(&t);
+    }
+    if (found.empty()) return;  // hasTopic() is false
+    if (found.size() > 1) {
+      failAt(index_pos_, fmt::format("the bag has {} {} topics: {}{}", found.size(), query.what, list(true),
+                                     query.choose));
+    }
+    chosen = found.front();
+  }
+  std::string expected;
+  for (const auto& a : query.types) {
+    if (a.first == chosen->type) expected = a.second;
+  }
+  if (chosen->md5sum != expected) {
+    failAt(index_pos_, fmt::format("topic {} has a revision of {} with MD5 sum '{}'; AsynEVO reads the revision with MD5 "
+                                   "sum {} (docs/reference/formats_rosbag.md)",
+                                   chosen->name, chosen->type, chosen->md5sum, expected));
+  }
+  topic_ = chosen->name;
+  topic_type_ = chosen->type;
+  selected_ = chosen->ids;
+}
+
+bool RosbagReader::nextRawMessage(const unsigned char*& data, std::size_t& size) {
+  if (selected_.empty() || !nextMessage()) return false;
+  data = raw_data_;
+  size = raw_size_;
+  return true;
+}
+
 void RosbagReader::failAt(uint64_t offset, const std::string& message) const {
   throw InputError::atByte(info_.path, offset, message);
 }
@@ -360,14 +438,10 @@ void RosbagReader::readIndex() {
   }
 }
 
-void RosbagReader::chooseTopic() {
+void RosbagReader::collectTopics() {
   // Topics in order of first appearance, with their types and message counts.
-  struct Topic {
-    std::string name, type, md5sum;
-    std::vector<uint32_t> ids;
-    uint64_t messages = 0;
-  };
-  std::vector<Topic> topics;
+  using Topic = BagTopic;
+  std::vector<BagTopic>& topics = topics_;
   for (const BagConnection& c : connections_) {
     auto it = std::find_if(topics.begin(), topics.end(), [&](const Topic& t) { return t.name == c.topic; });
     if (it == topics.end()) {
@@ -386,6 +460,12 @@ void RosbagReader::chooseTopic() {
       }
     }
   }
+}
+
+void RosbagReader::chooseTopic() {
+  using Topic = BagTopic;
+  collectTopics();
+  const std::vector<BagTopic>& topics = topics_;
   auto describe = [](const Topic& t) { return fmt::format("{} ({}, {} messages)", t.name, t.type, t.messages); };
   auto list = [&](bool events_only) {
     std::string text;
@@ -432,6 +512,7 @@ void RosbagReader::chooseTopic() {
                                                                : std::string()));
   }
   topic_ = chosen->name;
+  topic_type_ = chosen->type;
   selected_ = chosen->ids;
   kind_ = revision_2014 ? Kind::kEventArray2014 : chosen->type == kEventArray ? Kind::kEventArray : Kind::kEventPacket;
   for (std::size_t i = 0; i < topics.size(); ++i) {
@@ -616,7 +697,12 @@ bool RosbagReader::nextMessage() {
     if (have_message_) ++message_index_;
     have_message_ = true;
     message_record_ = record;
-    parseMessage(&chunk_[data_at], data_len);
+    if (raw_) {
+      raw_data_ = &chunk_[data_at];
+      raw_size_ = data_len;
+    } else {
+      parseMessage(&chunk_[data_at], data_len);
+    }
     return true;
   }
 }

@@ -42,9 +42,41 @@ struct BagChunk {
   std::vector<std::pair<uint32_t, uint32_t>> counts;  ///< (connection id, messages)
 };
 
+/// A topic of the bag: its name, type, MD5 sum, connections and message count (from the index).
+struct BagTopic {
+  std::string name, type, md5sum;
+  std::vector<uint32_t> ids;
+  uint64_t messages = 0;
+};
+
+/// Which non-event topic to read raw (ground truth, camera info): the accepted types with their MD5
+/// sums, the topic the user named ("" = the only topic of an accepted type) and how to name things in
+/// messages.
+struct BagTopicQuery {
+  std::vector<std::pair<std::string, std::string>> types;  ///< (type, MD5 sum) accepted
+  std::string topic;                                       ///< requested by the user; "" = choose
+  std::string flag;                                        ///< the option that names the topic ("--gt-topic")
+  std::string what;                                        ///< "pose", "camera info"
+  std::string choose;  ///< what to do when there are several ("; choose one with --gt-topic NAME")
+};
+
 class RosbagReader final : public EventReader {
  public:
   RosbagReader(const std::string& path, const ReaderOptions& options);
+  /// Opens the bag to read the raw messages of one topic chosen by `query` (no events are read). When the
+  /// bag holds no topic of an accepted type and none was requested, hasTopic() is false; several such
+  /// topics without a requested one, a requested topic that is missing or of another type, or an MD5 sum
+  /// other than the accepted one are InputErrors naming the topics or sums.
+  RosbagReader(const std::string& path, const BagTopicQuery& query);
+  bool hasTopic() const { return !selected_.empty(); }
+  /// The next message of the chosen topic (raw mode): its serialized bytes, valid until the next call.
+  bool nextRawMessage(const unsigned char*& data, std::size_t& size);
+  const std::string& topic() const { return topic_; }
+  const std::string& topicType() const { return topic_type_; }
+  /// Every topic of the bag, in order of first appearance.
+  const std::vector<BagTopic>& topics() const { return topics_; }
+  /// Fails naming the file, the current message's place and index among the topic's messages.
+  [[noreturn]] void failInMessage(const std::string& message) const;
   bool read(EventPacket& packet) override;
   const StreamInfo& info() const override { return info_; }
   const ReaderStats& stats() const override { return stats_; }
@@ -54,7 +86,9 @@ class RosbagReader final : public EventReader {
   enum class Encoding { kNone, kEvt3, kEvt2 };
 
   void readIndex();
+  void collectTopics();
   void chooseTopic();
+  void chooseQueriedTopic(const BagTopicQuery& query);
   /// Loads the next chunk holding messages of the chosen topic; false when there is none.
   bool loadNextChunk();
   /// Moves to the next message of the chosen topic and parses its fields; false at the end of the bag.
@@ -63,8 +97,6 @@ class RosbagReader final : public EventReader {
   std::size_t decodeMessage(Event* out, std::size_t n, std::size_t capacity);
 
   [[noreturn]] void failAt(uint64_t offset, const std::string& message) const;
-  /// Fails naming the current message (and, for compressed chunks, the place in the chunk).
-  [[noreturn]] void failInMessage(const std::string& message) const;
 
   StreamInfo info_;
   ReaderStats stats_;
@@ -76,8 +108,13 @@ class RosbagReader final : public EventReader {
   uint32_t chunk_count_ = 0;
   std::vector<BagConnection> connections_;
   std::vector<BagChunk> chunks_;          ///< sorted by position
+  std::vector<BagTopic> topics_;
   std::vector<uint32_t> selected_;        ///< connection ids of the chosen topic
   std::string topic_;
+  std::string topic_type_;
+  bool raw_ = false;                      ///< raw mode: messages are handed out, not decoded as events
+  const unsigned char* raw_data_ = nullptr;
+  std::size_t raw_size_ = 0;
   Kind kind_ = Kind::kEventArray;
 
   // The current chunk.

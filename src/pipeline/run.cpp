@@ -17,6 +17,7 @@
 #include "asynevo/io/dataset_reader.hpp"
 #include "asynevo/io/event_reader.hpp"
 #include "asynevo/io/groundtruth_reader.hpp"
+#include "asynevo/io/rosbag_topics.hpp"
 #include "asynevo/io/repeat_reader.hpp"
 
 namespace asynevo::pipeline {
@@ -71,10 +72,15 @@ RunSummary runDataset(const RunOptions& options,
                                  : (options.config_path.empty() ? Config() : loadConfig(options.config_path));
   const DatasetFiles files = resolveDataset(options.dataset, options.format);
   const std::string calib = !options.calib.empty() ? options.calib : files.calibration.value_or("");
-  if (calib.empty())
+  // A ROS bag's sensor_msgs/CameraInfo topic is the calibration when no file is given or found beside it.
+  std::optional<BagCalibration> bag_calib;
+  const bool bag = isRosbag(files.events);
+  if (calib.empty() && bag) bag_calib = readRosbagCalibration(files.events);
+  if (calib.empty() && !bag_calib)
     throw InputError(files.root,
-                     "no camera calibration: the dataset folder has no calib.txt or Kalibr camchain .yaml; "
-                     "pass --calib FILE");
+                     std::string("no camera calibration: the dataset folder has no calib.txt or Kalibr camchain .yaml") +
+                         (bag ? " and the bag no sensor_msgs/CameraInfo topic" : "") + "; pass --calib FILE");
+  checkGroundTruthChoice(files, options.gt_topic);
 
   // The sensor size by precedence: --sensor, the configuration's sensor block, sensor.yaml, a camchain's
   // resolution, the format (io/sensor_size.hpp).
@@ -96,13 +102,21 @@ RunSummary runDataset(const RunOptions& options,
   config.validateForSensor();
   summary.config = config;
 
-  const CameraModel camera = readCalibration(calib, summary.width, summary.height);
-  summary.calibration = calib;
-  if (camera.width() != summary.width || camera.height() != summary.height)
+  const CameraModel camera = bag_calib ? bag_calib->camera : readCalibration(calib, summary.width, summary.height);
+  summary.calibration = bag_calib ? bagTopicSource(files.events, bag_calib->topic) : calib;
+  if (camera.width() != summary.width || camera.height() != summary.height) {
+    if (bag_calib) {
+      throw InputError(files.events,
+                       fmt::format("the camera info of topic {} is for {}x{} pixels but the events are {}x{} (size "
+                                   "from {}); pass the right calibration with --calib FILE",
+                                   bag_calib->topic, camera.width(), camera.height(), summary.width, summary.height,
+                                   summary.size_origin));
+    }
     throw InputError(
         calib, fmt::format("calibration is for {}x{} pixels but the events ({}) are {}x{} (size from {})",
                            camera.width(), camera.height(), files.events, summary.width, summary.height,
                            summary.size_origin));
+  }
 
   // Outputs that do not depend on the run come first: a failed run still says how it was configured.
   RunFolderWriter writer(options.out);
@@ -141,27 +155,37 @@ RunSummary runDataset(const RunOptions& options,
   summary.landmarks_written = writer.landmarksWritten();
   summary.measurements_written = writer.measurementsWritten();
 
-  if (files.groundtruth && options.repeat > 1) {
-    summary.warnings.push_back(fmt::format("ground truth not written: the stream was played {} times (--repeat)",
-                                           options.repeat));
-  } else if (files.groundtruth) {
-    try {
-      const StampedTrajectory gt = readGroundTruth(*files.groundtruth);
+  // The ground truth: --gt-topic, else a file beside the events, else a bag's only pose topic
+  // (loadDatasetGroundTruth). Problems are warnings: the estimate is written either way.
+  try {
+    const std::optional<DatasetGroundTruth> gt = loadDatasetGroundTruth(files, options.gt_topic);
+    if (gt) {
+      summary.groundtruth = gt->source;
+      if (!gt->note.empty()) summary.warnings.push_back("ground truth from " + gt->source + "; " + gt->note);
+    }
+    if (gt && options.repeat > 1) {
+      summary.warnings.push_back(fmt::format("ground truth not written: the stream was played {} times (--repeat)",
+                                             options.repeat));
+    } else if (gt) {
       StampedTrajectory span;
-      for (const StampedPose& p : gt)
+      for (const StampedPose& p : gt->poses)
         if (p.t_ns >= summary.pipeline.first_t_ns && p.t_ns <= summary.pipeline.last_t_ns) span.push_back(p);
       if (span.empty()) {
-        summary.warnings.push_back(
-            fmt::format("{}: no ground-truth pose within the event time span; "
-                        "stamped_groundtruth.txt not written",
-                        *files.groundtruth));
+        summary.warnings.push_back(fmt::format(
+            "{}: no ground-truth pose within the event time span ({:.3f} .. {:.3f} s; poses {:.3f} .. {:.3f} s){}; "
+            "stamped_groundtruth.txt not written",
+            gt->source, nsToSeconds(summary.pipeline.first_t_ns), nsToSeconds(summary.pipeline.last_t_ns),
+            nsToSeconds(gt->poses.front().t_ns), nsToSeconds(gt->poses.back().t_ns),
+            bag ? " (a bag's EventPacket events carry the camera's clock, its poses ROS time: "
+                  "docs/reference/formats_rosbag.md#clocks)"
+                : ""));
       } else {
         writer.writeGroundTruth(span);
         summary.groundtruth_poses = span.size();
       }
-    } catch (const InputError& e) {
-      summary.warnings.push_back(std::string("ground truth skipped: ") + e.what());
     }
+  } catch (const InputError& e) {
+    summary.warnings.push_back(std::string("ground truth skipped: ") + e.what());
   }
   summary.peak_memory_mb = peakMemoryMb();
   if (!summary.estimator.segments.empty())
@@ -218,6 +242,10 @@ std::string runSummaryText(const RunSummary& s) {
   if (p.real_time)
     t += fmt::format("backend lag     max {:.3f} s, mean {:.3f} s\n", p.max_lag_ns * 1e-9,
                      p.mean_lag_ns * 1e-9);
+  if (!s.calibration.empty()) t += fmt::format("calibration     {}\n", s.calibration);
+  if (!s.groundtruth.empty())
+    t += fmt::format("ground truth    {} ({} poses in the event span written)\n", s.groundtruth,
+                     s.groundtruth_poses.value_or(0));
   for (const std::string& w : s.warnings) t += "warning: " + w + "\n";
   t += fmt::format("run folder      {}\n", s.out_dir);
   return t;
@@ -236,6 +264,7 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("height", s.height)
       .add("size_origin", s.size_origin)
       .add("calibration", s.calibration)
+      .add("groundtruth", s.groundtruth)
       .add("first_event_s", nsToSeconds(p.first_t_ns))
       .add("last_event_s", nsToSeconds(p.last_t_ns))
       .add("groundtruth_poses", static_cast<uint64_t>(s.groundtruth_poses.value_or(0)))

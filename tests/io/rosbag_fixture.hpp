@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <string>
 #include <utility>
@@ -78,6 +79,64 @@ inline std::string eventPacket(uint32_t width, uint32_t height, const std::strin
                                uint64_t seq = 0, bool big_endian = false) {
   return rosHeader(static_cast<uint32_t>(seq), 0) + u32(height) + u32(width) + u64(seq) + u64(0) +
          rosString(encoding) + u8(big_endian ? 1 : 0) + rosString(payload);
+}
+
+// Ground-truth and calibration messages (ros/common_msgs definitions, ROS1 serialization).
+const std::string kPoseStampedType = "geometry_msgs/PoseStamped";
+const std::string kPoseStampedMd5 = "d3812c3cbc69362b77dc0b19b345f8f5";
+const std::string kTransformStampedType = "geometry_msgs/TransformStamped";
+const std::string kTransformStampedMd5 = "b5764a33bfeb3588febc2682852579b0";
+const std::string kOdometryType = "nav_msgs/Odometry";
+const std::string kOdometryMd5 = "cd5e73d190d741a2f92e81eda573aca7";
+const std::string kCameraInfoType = "sensor_msgs/CameraInfo";
+const std::string kCameraInfoMd5 = "c9a58c1b0b154e0e6da7578cb991d214";
+
+/// A float64, little-endian.
+inline std::string f64(double v) {
+  uint64_t bits = 0;
+  static_assert(sizeof(bits) == sizeof(v), "IEEE double");
+  std::memcpy(&bits, &v, sizeof(v));
+  return u64(bits);
+}
+
+/// geometry_msgs/Pose: position x y z, orientation x y z w.
+struct Pose {
+  double px = 0, py = 0, pz = 0;
+  double qx = 0, qy = 0, qz = 0, qw = 1;
+};
+inline std::string pose(const Pose& p) {
+  return f64(p.px) + f64(p.py) + f64(p.pz) + f64(p.qx) + f64(p.qy) + f64(p.qz) + f64(p.qw);
+}
+
+/// geometry_msgs/PoseStamped: header, pose.
+inline std::string poseStamped(uint64_t stamp_ns, const Pose& p, uint32_t seq = 0) {
+  return rosHeader(seq, stamp_ns, "world") + pose(p);
+}
+/// geometry_msgs/TransformStamped: header, child_frame_id, transform (translation, rotation).
+inline std::string transformStamped(uint64_t stamp_ns, const Pose& p, uint32_t seq = 0) {
+  return rosHeader(seq, stamp_ns, "world") + rosString("camera") + pose(p);
+}
+/// nav_msgs/Odometry: header, child_frame_id, PoseWithCovariance (pose, 36 f64), TwistWithCovariance (6 + 36 f64).
+inline std::string odometry(uint64_t stamp_ns, const Pose& p, uint32_t seq = 0) {
+  std::string m = rosHeader(seq, stamp_ns, "odom") + rosString("base_link") + pose(p);
+  for (int i = 0; i < 36; ++i) m += f64(i == 0 ? 0.01 : 0.0);
+  for (int i = 0; i < 6; ++i) m += f64(0.1 * i);
+  for (int i = 0; i < 36; ++i) m += f64(0.0);
+  return m;
+}
+
+/// sensor_msgs/CameraInfo: header, height, width, distortion_model, D[], K[9], R[9], P[12], binning_x,
+/// binning_y, roi (x_offset, y_offset, height, width, do_rectify).
+inline std::string cameraInfo(uint32_t width, uint32_t height, const std::string& model, const std::vector<double>& d,
+                              double fx, double fy, double cx, double cy, uint64_t stamp_ns = 0) {
+  std::string m = rosHeader(0, stamp_ns, "camera") + u32(height) + u32(width) + rosString(model);
+  m += u32(static_cast<uint32_t>(d.size()));
+  for (double v : d) m += f64(v);
+  for (double v : {fx, 0.0, cx, 0.0, fy, cy, 0.0, 0.0, 1.0}) m += f64(v);                    // K
+  for (double v : {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0}) m += f64(v);                // R
+  for (double v : {fx, 0.0, cx, 0.0, 0.0, fy, cy, 0.0, 0.0, 0.0, 1.0, 0.0}) m += f64(v);    // P
+  m += u32(0) + u32(0) + u32(0) + u32(0) + u32(0) + u32(0) + u8(0);                          // binning, roi
+  return m;
 }
 
 struct Connection {

@@ -26,6 +26,8 @@ struct EvalOptions {
   std::vector<double> rel_percentages = {0.1, 0.2, 0.3, 0.4, 0.5};  ///< of the GT path length
   bool rpg_start_indexing = true;                                   ///< see RelativeErrorOptions
   int64_t velocity_max_gt_gap_ns = kDefaultVelocityMaxGtGapNs;      ///< see computeVelocityErrors
+  /// When the ground truth is a ROS bag: its pose topic ("" = the bag's only one).
+  std::string gt_topic;
 };
 
 /// One segment of a segmented estimate (segments.hpp), aligned on its own.

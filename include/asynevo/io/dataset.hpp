@@ -7,6 +7,8 @@
 #include <string>
 #include <utility>
 
+#include "asynevo/core/stamped_pose.hpp"
+
 namespace asynevo {
 
 struct DatasetFiles {
@@ -34,5 +36,27 @@ bool isKalibrCalibration(const std::string& path);
 /// size with chooseSensorSize (io/sensor_size.hpp), which ranks this below --sensor, the configuration
 /// and sensor.yaml.
 std::pair<int, int> sensorSizeFromCalibration(const DatasetFiles& files);
+
+/// A dataset's ground truth and where it came from.
+struct DatasetGroundTruth {
+  StampedTrajectory poses;
+  std::string source;  ///< the file, or "BAG (topic NAME)"
+  std::string note;    ///< what else was there and is not used ("" = nothing)
+};
+
+/// The dataset's ground truth, by this rule (docs/reference/formats_rosbag.md#ground-truth):
+///   1. `gt_topic` (--gt-topic) names a pose topic of the bag: that topic (an error when the events file is
+///      not a ROS bag, or the topic is missing or not a pose type);
+///   2. else a ground-truth file in the folder (groundtruth.txt, ..., files.groundtruth) — it wins over the
+///      bag's pose topic, which `note` then names;
+///   3. else the bag's only pose topic (geometry_msgs/PoseStamped, TransformStamped, nav_msgs/Odometry).
+/// std::nullopt when there is none. Read errors are InputErrors.
+std::optional<DatasetGroundTruth> loadDatasetGroundTruth(const DatasetFiles& files, const std::string& gt_topic = "");
+
+/// Checks, before any event is read, what loadDatasetGroundTruth would fail on for want of a choice: an
+/// InputError when --gt-topic is given but the events are not a ROS bag, when it names a topic the bag
+/// lacks (or of another type or revision), or when no file wins and the bag has several pose topics.
+/// Only the bag's index is read.
+void checkGroundTruthChoice(const DatasetFiles& files, const std::string& gt_topic);
 
 }  // namespace asynevo

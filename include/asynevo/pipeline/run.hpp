@@ -32,6 +32,8 @@ struct RunOptions {
   std::string sensor;            ///< --sensor WxH ("" = from the configuration or the dataset, io/sensor_size.hpp)
   std::string calib;             ///< "" = the dataset's own calibration file
   std::string topic;             ///< --topic: a ROS bag's event topic ("" = its only one)
+  std::string gt_topic;          ///< --gt-topic: a ROS bag's pose topic for the ground truth ("" = the rule of
+                                 ///< io/dataset.hpp loadDatasetGroundTruth)
   std::string config_path;       ///< "" = defaults (or `config` below)
   std::optional<Config> config;  ///< used instead of config_path when set (the demo)
   BackendKind backend = BackendKind::kWindow;
@@ -47,7 +49,8 @@ struct RunOptions {
 struct RunSummary {
   std::string out_dir;
   std::string dataset_events;  ///< the event file read
-  std::string calibration;     ///< the calibration file used
+  std::string calibration;     ///< the calibration file used, or "BAG (topic NAME)" for a CameraInfo topic
+  std::string groundtruth;     ///< where the ground truth came from ("" = none)
   std::string format;
   int width = 0, height = 0;
   std::string size_origin;  ///< where width and height came from

@@ -1,0 +1,170 @@
+// A ROS bag used alone: events, a pose topic (ground truth) and a CameraInfo topic (calibration), through
+// 'asynevo info', 'run' and 'eval' as a user runs them (docs/reference/formats_rosbag.md).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_test_util.hpp"
+#include "io_test_util.hpp"
+#include "rosbag_fixture.hpp"
+
+namespace asynevo {
+namespace {
+
+namespace bag = testing::bag;
+using testing::runAsynevo;
+using testing::TempDir;
+
+constexpr uint64_t kT0 = 1'600'000'000'000'000'000ull;  // ns
+constexpr int kPoses = 31;                               // 100 Hz over the 300 ms of events
+
+const bag::Connection kDvs{0, "/dvs/events", bag::kEventArrayType, bag::kEventArrayMd5, bag::kEventArrayDefinition};
+const bag::Connection kPose{1, "/optitrack/davis", bag::kPoseStampedType, bag::kPoseStampedMd5, "(definition)"};
+const bag::Connection kInfo{2, "/dvs/camera_info", bag::kCameraInfoType, bag::kCameraInfoMd5, "(definition)"};
+const bag::Connection kOdom{3, "/odom", bag::kOdometryType, bag::kOdometryMd5, "(definition)"};
+
+/// 300 ms of events (30 messages of 10 ms, 500 events each, a pattern over the 240x180 sensor), poses at
+/// 100 Hz on a curve, one CameraInfo of `info_width` x 180; with `odometry` also an Odometry topic.
+std::string recording(uint32_t info_width = 240, bool odometry = false) {
+  std::vector<bag::Chunk> chunks;
+  uint32_t state = 12345;
+  auto next = [&] { return state = state * 1664525u + 1013904223u; };
+  std::vector<bag::Message> messages{
+      {2, kT0, bag::cameraInfo(info_width, 180, "plumb_bob", {-0.3, 0.1, 0.001, 0.0005, 0.0}, 199.0, 198.0, 120.0, 90.0)}};
+  for (int k = 0; k < 30; ++k) {
+    std::vector<bag::DvsEvent> events;
+    for (int i = 0; i < 500; ++i) {
+      const uint32_t r = next() >> 8;
+      events.push_back({static_cast<uint16_t>(r % 240), static_cast<uint16_t>((r / 240) % 180),
+                        kT0 + uint64_t(k) * 10'000'000 + uint64_t(i) * 20'000, (r & 1) != 0});
+    }
+    messages.push_back({0, events.front().t_ns, bag::eventArray(240, 180, events)});
+  }
+  for (int i = 0; i < kPoses; ++i) {
+    bag::Pose p;
+    p.px = 0.1 * std::sin(0.2 * i);
+    p.py = 0.02 * i;
+    p.pz = 0.05 * std::cos(0.1 * i);
+    p.qz = std::sin(0.01 * i);
+    p.qw = std::cos(0.01 * i);
+    const uint64_t t = kT0 + uint64_t(i) * 10'000'000;
+    messages.push_back({1, t, bag::poseStamped(t, p)});
+    if (odometry) messages.push_back({3, t, bag::odometry(t, p)});
+  }
+  // Two chunks, as a recorder splits a recording.
+  const std::size_t half = messages.size() / 2;
+  chunks.emplace_back(std::vector<bag::Message>(messages.begin(), messages.begin() + half));
+  chunks.emplace_back(std::vector<bag::Message>(messages.begin() + half, messages.end()));
+  std::vector<bag::Connection> connections{kDvs, kPose, kInfo};
+  if (odometry) connections.push_back(kOdom);
+  return bag::buildBag(connections, chunks);
+}
+
+std::size_t lineCount(const std::string& path) {
+  std::ifstream in(path);
+  std::size_t n = 0;
+  for (std::string line; std::getline(in, line);) n += !line.empty() && line[0] != '#';
+  return n;
+}
+
+TEST(RosbagCli, InfoTakesGroundTruthAndCalibrationFromTheBag) {
+  TempDir dir;
+  const std::string path = dir.write("recording.bag", recording());
+  const auto result = runAsynevo("info --dataset " + path);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("calibration   " + path + " (topic /dvs/camera_info)\n"), std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find("fx=199"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("ground truth  " + path + " (topic /optitrack/davis)\n              31 poses, "
+                               "1600000000.000000000 .. 1600000000.300000000 s, 30 inside the event span"),
+            std::string::npos)
+      << result.output;
+  // A groundtruth.txt beside the bag wins, and info says which topic is not used.
+  dir.write("groundtruth.txt", "1600000000.0 0 0 0 0 0 0 1\n1600000000.1 1 0 0 0 0 0 1\n");
+  const auto beside = runAsynevo("info --dataset " + dir.path().string());
+  ASSERT_EQ(beside.exit_code, 0) << beside.output;
+  EXPECT_NE(beside.output.find("groundtruth.txt\n              2 poses"), std::string::npos) << beside.output;
+  EXPECT_NE(beside.output.find("note: the bag's pose topic(s) /optitrack/davis not used: the file beside the bag wins"),
+            std::string::npos)
+      << beside.output;
+  const auto chosen = runAsynevo("info --dataset " + dir.path().string() + " --gt-topic /optitrack/davis");
+  EXPECT_NE(chosen.output.find("(topic /optitrack/davis)\n              31 poses"), std::string::npos) << chosen.output;
+}
+
+TEST(RosbagCli, TwoPoseTopicsNeedGtTopic) {
+  TempDir dir;
+  const std::string path = dir.write("two.bag", recording(240, true));
+  const auto result = runAsynevo("info --dataset " + path);
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_NE(result.output.find("the bag has 2 pose topics: /optitrack/davis (geometry_msgs/PoseStamped, 31 messages), "
+                               "/odom (nav_msgs/Odometry, 31 messages); choose one with --gt-topic NAME"),
+            std::string::npos)
+      << result.output;
+  // run stops before reading any event, not after the estimate.
+  const auto run = runAsynevo("run --dataset " + path + " --out " + dir.file("run"));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("choose one with --gt-topic NAME"), std::string::npos) << run.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("run") + "/stats.json"));
+  const auto chosen = runAsynevo("info --dataset " + path + " --gt-topic /odom");
+  EXPECT_EQ(chosen.exit_code, 0) << chosen.output;
+  EXPECT_NE(chosen.output.find("(topic /odom)\n              31 poses"), std::string::npos) << chosen.output;
+}
+
+TEST(RosbagCli, RunAndEvalUseTheBagAlone) {
+  TempDir dir;
+  const std::string path = dir.write("recording.bag", recording());
+  const std::string out = dir.file("run");
+  // Random events do not let the estimator start (exit code 1), but the run still reports its sources and
+  // writes the ground truth of the event span.
+  const auto run = runAsynevo("run --dataset " + path + " --out " + out);
+  EXPECT_NE(run.output.find("calibration     " + path + " (topic /dvs/camera_info)\n"), std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("ground truth    " + path + " (topic /optitrack/davis) (30 poses in the event span "
+                            "written)"),
+            std::string::npos)
+      << run.output;
+  EXPECT_EQ(lineCount(out + "/stamped_groundtruth.txt"), 30u);  // the pose at 300 ms is after the last event
+  // eval reads the bag's pose topic as the ground truth: the run's copy of it matches exactly.
+  const auto eval = runAsynevo("eval --gt " + path + " --gt-topic /optitrack/davis --est " + out +
+                               "/stamped_groundtruth.txt --align se3 --velocities none --out " + dir.file("eval"));
+  ASSERT_EQ(eval.exit_code, 0) << eval.output;
+  std::ifstream json(dir.file("eval") + "/eval.json");
+  std::stringstream text;
+  text << json.rdbuf();
+  EXPECT_NE(text.str().find("\"matched\": 30"), std::string::npos) << text.str().substr(0, 600);
+}
+
+TEST(RosbagCli, CameraInfoOfAnotherSizeIsAnError) {
+  TempDir dir;
+  const std::string path = dir.write("recording.bag", recording(346));
+  const auto run = runAsynevo("run --dataset " + path + " --out " + dir.file("run"));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find(path + ": the camera info of topic /dvs/camera_info is for 346x180 pixels but the events "
+                                   "are 240x180 (size from the bag's messages)"),
+            std::string::npos)
+      << run.output;
+  // A calibration file beside the bag wins over the CameraInfo topic.
+  dir.write("calib.txt", "199 198 120 90 0 0 0 0 0\n");
+  const auto with_file = runAsynevo("info --dataset " + dir.path().string());
+  EXPECT_NE(with_file.output.find("calib.txt"), std::string::npos) << with_file.output;
+  EXPECT_NE(with_file.output.find("note: the bag's sensor_msgs/CameraInfo topic is not used (the file wins)"),
+            std::string::npos)
+      << with_file.output;
+}
+
+TEST(RosbagCli, InfoShowsBothClocksOfAnEventPacketBag) {
+  const std::string path = std::string(ASYNEVO_SHARED_DATA_DIR) + "/formats/rosbag/test_events_1.bag";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found (the shared data folder is missing)";
+  const auto result = runAsynevo("info --dataset " + path);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("clocks        events in the camera's clock (first event "), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("the first packet's header stamp (ROS time) is "), std::string::npos) << result.output;
+}
+
+}  // namespace
+}  // namespace asynevo
