@@ -2,8 +2,6 @@
 // fixture (tests/io/rosbag_fixture.hpp). Not part of the build; run once:
 //   g++ -std=c++17 -I tests fuzz/make_rosbag_seeds.cpp -llz4 -lbz2 -o /tmp/rosbag_seeds
 //   /tmp/rosbag_seeds fuzz/corpus
-#include <bzlib.h>
-#include <lz4frame.h>
 
 #include <cstdio>
 #include <fstream>
@@ -11,26 +9,12 @@
 #include <utility>
 #include <vector>
 
+#include "io/chunk_compression.hpp"
 #include "io/rosbag_fixture.hpp"
 
 namespace bag = asynevo::testing::bag;
 
 namespace {
-
-std::string lz4(const std::string& in) {
-  std::string out(LZ4F_compressFrameBound(in.size(), nullptr), '\0');
-  out.resize(LZ4F_compressFrame(out.data(), out.size(), in.data(), in.size(), nullptr));
-  return out;
-}
-
-std::string bz2(const std::string& in) {
-  std::string out(in.size() + in.size() / 100 + 700, '\0');
-  auto n = static_cast<unsigned int>(out.size());
-  std::string src = in;
-  BZ2_bzBuffToBuffCompress(out.data(), &n, src.data(), static_cast<unsigned int>(src.size()), 9, 0, 0);
-  out.resize(n);
-  return out;
-}
 
 const bag::Connection kDvs{0, "/dvs/events", bag::kEventArrayType, bag::kEventArrayMd5, bag::kEventArrayDefinition};
 const bag::Connection kImu{1, "/dvs/imu", "sensor_msgs/Imu", "6a62c6daae103f4ff57a132d6f95cec2", "-"};
@@ -95,19 +79,19 @@ int main(int argc, char** argv) {
   const std::string dir = std::string(argv[1]) + "/rosbag_events/";
   const std::pair<const char*, std::string> seeds[] = {
       {"seed_none.bag", dvs("none", nullptr)},
-      {"seed_lz4.bag", dvs("lz4", lz4)},
-      {"seed_bz2.bag", dvs("bz2", bz2)},
+      {"seed_lz4.bag", dvs("lz4", bag::lz4)},
+      {"seed_bz2.bag", dvs("bz2", bag::bz2)},
       {"seed_evt3_packets.bag", packets()},
   };
   for (const auto& [name, bytes] : seeds) std::ofstream(dir + name, std::ios::binary) << bytes;
-  const std::string cut = dvs("lz4", lz4);
+  const std::string cut = dvs("lz4", bag::lz4);
   std::ofstream(dir + "seed_truncated.bag", std::ios::binary) << cut.substr(0, cut.size() - 7);
 
   const std::string topics_dir = std::string(argv[1]) + "/rosbag_topics/";
   const std::pair<const char*, std::string> topic_seeds[] = {
       {"seed_posestamped_radtan.bag", topics(kPose, "plumb_bob", {-0.3, 0.1, 0.001, 0.002, 0.01})},
       {"seed_transform_equidistant.bag", topics(kTf, "equidistant", {0.1, 0.01, 0.001, 0.0001})},
-      {"seed_odometry_pinhole_lz4.bag", topics(kOdom, "plumb_bob", {}, "lz4", lz4)},
+      {"seed_odometry_pinhole_lz4.bag", topics(kOdom, "plumb_bob", {}, "lz4", bag::lz4)},
   };
   for (const auto& [name, bytes] : topic_seeds) std::ofstream(topics_dir + name, std::ios::binary) << bytes;
   return 0;

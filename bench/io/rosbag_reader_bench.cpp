@@ -7,8 +7,6 @@
 //     step, then ADDR_Y + ADDR_X per event), uncompressed.
 // Run: build/bin/bench_io --benchmark_filter=Rosbag
 #include <benchmark/benchmark.h>
-#include <bzlib.h>
-#include <lz4frame.h>
 
 #include <cstdint>
 #include <filesystem>
@@ -18,6 +16,7 @@
 #include <vector>
 
 #include "asynevo/io/event_reader.hpp"
+#include "chunk_compression.hpp"
 #include "read_all_bench.hpp"
 #include "rosbag_fixture.hpp"
 
@@ -29,21 +28,6 @@ namespace bag = testing::bag;
 constexpr int kMessageEvents = 4096;
 constexpr std::size_t kChunkBytes = 768 * 1024;
 constexpr uint64_t kT0 = 1'600'000'000'000'000'000ull;
-
-std::string lz4(const std::string& in) {
-  std::string out(LZ4F_compressFrameBound(in.size(), nullptr), '\0');
-  out.resize(LZ4F_compressFrame(out.data(), out.size(), in.data(), in.size(), nullptr));
-  return out;
-}
-
-std::string bz2(const std::string& in) {
-  std::string out(in.size() + in.size() / 100 + 700, '\0');
-  auto n = static_cast<unsigned int>(out.size());
-  std::string src = in;
-  BZ2_bzBuffToBuffCompress(out.data(), &n, src.data(), static_cast<unsigned int>(src.size()), 9, 0, 0);
-  out.resize(n);
-  return out;
-}
 
 /// Groups messages into chunks of about kChunkBytes and writes the bag.
 std::string writeBag(const char* name, const bag::Connection& connection, const std::vector<bag::Message>& messages,
@@ -113,11 +97,11 @@ void BM_RosbagEventArrayRead10M(benchmark::State& state) {
   benchmarkReadAll(state, path, true);
 }
 void BM_RosbagEventArrayLz4Read10M(benchmark::State& state) {
-  static const std::string path = eventArrayBag("asynevo_bench_10M_events_lz4.bag", 10'000'000, "lz4", lz4);
+  static const std::string path = eventArrayBag("asynevo_bench_10M_events_lz4.bag", 10'000'000, "lz4", bag::lz4);
   benchmarkReadAll(state, path, true);
 }
 void BM_RosbagEventArrayBz2Read2M(benchmark::State& state) {
-  static const std::string path = eventArrayBag("asynevo_bench_2M_events_bz2.bag", 2'000'000, "bz2", bz2);
+  static const std::string path = eventArrayBag("asynevo_bench_2M_events_bz2.bag", 2'000'000, "bz2", bag::bz2);
   benchmarkReadAll(state, path, true);
 }
 void BM_RosbagEventPacketEvt3Read10M(benchmark::State& state) {

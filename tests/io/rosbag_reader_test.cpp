@@ -9,9 +9,7 @@
 //   with liblz4's frame API and libbz2), and every kind of bad input.
 // - two small bags written by the ROS library's own writer (tests/data/rosbag/, see tests/data/SOURCES.md),
 //   so compressed chunks as ROS writes them (roslz4 frames, bz2) are read too.
-#include <bzlib.h>
 #include <gtest/gtest.h>
-#include <lz4frame.h>
 
 #include <filesystem>
 #include <string>
@@ -19,6 +17,7 @@
 
 #include "asynevo/core/error.hpp"
 #include "asynevo/io/event_reader.hpp"
+#include "chunk_compression.hpp"
 #include "io_test_util.hpp"
 #include "rosbag_fixture.hpp"
 
@@ -70,22 +69,6 @@ std::string dvsBag(const std::function<std::string(const std::string&)>& compres
   bag::Chunk a{{dvsMessage(0, 100), imuMessage(0), dvsMessage(100, 0)}, compression, compress};
   bag::Chunk b{{imuMessage(1), dvsMessage(100, 250), imuMessage(2)}, compression, compress};
   return bag::buildBag({kDvs, kImu}, {a, b});
-}
-
-std::string lz4(const std::string& in) {
-  std::string out(LZ4F_compressFrameBound(in.size(), nullptr), '\0');
-  const std::size_t n = LZ4F_compressFrame(out.data(), out.size(), in.data(), in.size(), nullptr);
-  out.resize(n);
-  return out;
-}
-
-std::string bz2(const std::string& in) {
-  std::string out(in.size() + in.size() / 100 + 700, '\0');
-  auto n = static_cast<unsigned int>(out.size());
-  std::string src = in;
-  BZ2_bzBuffToBuffCompress(out.data(), &n, src.data(), static_cast<unsigned int>(src.size()), 9, 0, 0);
-  out.resize(n);
-  return out;
 }
 
 void expectDvsEvents(const std::vector<Event>& events) {
@@ -173,8 +156,8 @@ TEST(RosbagReader, ReadsEventArraysFromASpecBuiltBag) {
 
 TEST(RosbagReader, ReadsCompressedChunks) {
   TempDir dir;
-  expectDvsEvents(readAllEvents(dir.write("lz4.bag", dvsBag(lz4, "lz4"))));
-  expectDvsEvents(readAllEvents(dir.write("bz2.bag", dvsBag(bz2, "bz2"))));
+  expectDvsEvents(readAllEvents(dir.write("lz4.bag", dvsBag(bag::lz4, "lz4"))));
+  expectDvsEvents(readAllEvents(dir.write("bz2.bag", dvsBag(bag::bz2, "bz2"))));
 }
 
 TEST(RosbagReader, ReadsBagsWrittenByTheRosLibrary) {
@@ -353,7 +336,7 @@ TEST(RosbagBadInput, CorruptChunks) {
   // A stated uncompressed size far above (or below) what the chunk holds: reported, and no buffer of the
   // stated size is allocated up front.
   for (const std::string kind : {"lz4", "bz2"}) {
-    std::string bytes = kind == "lz4" ? dvsBag(lz4, "lz4") : dvsBag(bz2, "bz2");
+    std::string bytes = kind == "lz4" ? dvsBag(bag::lz4, "lz4") : dvsBag(bag::bz2, "bz2");
     const std::size_t size_field = bytes.find("size=", chunk_pos) + 5;
     bytes.replace(size_field, 4, bag::u32(200u << 20));
     const std::string big = dir.write(kind + "_big.bag", bytes);
@@ -510,7 +493,7 @@ TEST(RosbagBadInput, UnindexedBag) {
 TEST(RosbagBadInput, EveryTruncationFailsCleanly) {
   // Whatever the cut, an InputError (never a crash or a silent short read).
   TempDir dir;
-  const std::string full = dvsBag(lz4, "lz4");
+  const std::string full = dvsBag(bag::lz4, "lz4");
   for (std::size_t n = 1; n < full.size(); n += 97) {
     const std::string path = dir.write("cut.bag", full.substr(0, n));
     ReaderOptions forced;
