@@ -119,6 +119,7 @@ const char* rejectionName(InitRejection rejection) {
     case InitRejection::Model: return "model";
     case InitRejection::Inliers: return "inliers";
     case InitRejection::Parallax: return "parallax";
+    case InitRejection::Agreement: return "agreement";
     case InitRejection::Landmarks: return "landmarks";
   }
   return "?";

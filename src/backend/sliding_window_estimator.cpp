@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <string_view>
+#include <utility>
 #include <cmath>
 #include <limits>
 
@@ -146,6 +147,20 @@ BackendConfig SlidingWindowEstimator::initConfig(int64_t t_ns) const {
   return config;
 }
 
+bool SlidingWindowEstimator::agreesWithPreviousAttempt(const InitResult& motion) {
+  const double bound = options_.config.init_agreement_deg;
+  if (bound <= 0) return true;
+  const std::optional<InitResult> previous = std::exchange(previous_start_motion_, motion);
+  const double angle = previous ? travelAngleDeg(*previous, motion) : 180.0;
+  if (angle <= bound) return true;
+  stats_.init_last_failure =
+      previous ? fmt::format("{} direction of travel {:.1f} deg from the previous attempt's (need <= {})",
+                             motion.method, angle, bound)
+               : fmt::format("{} motion found, waiting for the next attempt to agree with it", motion.method);
+  ++stats_.init_rejections[static_cast<int>(InitRejection::Agreement)];
+  return false;
+}
+
 void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   last_init_attempt_ns_ = t_ns;
   ++stats_.init_attempts;
@@ -163,10 +178,12 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   const InitResult motion =
       findInitialMotion(std::max(first_measurement_ns_, horizon), t_ns - knot_dt_ns_, config, relaxed(t_ns));
   if (!motion.ok) {
+    previous_start_motion_.reset();
     stats_.init_last_failure = motion.failure;
     ++stats_.init_rejections[static_cast<int>(motion.rejection)];
     return;
   }
+  if (!agreesWithPreviousAttempt(motion)) return;
   // Knots on a grid from t_a through the start's motion, at the monocular scale of 1 map unit per second
   // over its span (docs/backend.md).
   Trajectory trajectory = constantTwistTrajectory(motion, t_ns, knot_dt_ns_);
@@ -231,6 +248,7 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
     stats_.init_views = {motion.method, durationSeconds(motion.t_a_ns, motion.t_b_ns) * 1e3, motion.features,
                          motion.inliers, motion.parallax_px, landmarks};
   }
+  previous_start_motion_.reset();
   tracking_ = true;
   Segment segment;
   segment.initialized_at_ns = t_ns;
@@ -346,6 +364,7 @@ void SlidingWindowEstimator::restartInitialization(int64_t reset_ns) {
   tracks_.clear();
   first_measurement_ns_ = -1;
   last_init_attempt_ns_.reset();
+  previous_start_motion_.reset();
   reset_ns_ = reset_ns;
 }
 

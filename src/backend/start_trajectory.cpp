@@ -24,6 +24,18 @@ Trajectory constantTwistTrajectory(const InitResult& motion, int64_t t_end_ns, i
   return trajectory;
 }
 
+lie::Vec3 startTravelDirection(const InitResult& motion) {
+  const double span_s = durationSeconds(motion.t_a_ns, motion.t_b_ns);
+  const lie::SE3 T_a_b(motion.T_a_b.rotation(), motion.T_a_b.translation() * span_s);
+  const lie::Vec3 rho = lie::se3::log(T_a_b).head<3>();
+  return rho.normalized();
+}
+
+double travelAngleDeg(const InitResult& a, const InitResult& b) {
+  const double c = std::clamp(startTravelDirection(a).dot(startTravelDirection(b)), -1.0, 1.0);
+  return std::acos(c) * 180.0 / M_PI;
+}
+
 namespace {
 
 /// A feature sampled at the knots: its bearing at the first knot it is defined at (the anchor), and its

@@ -53,6 +53,27 @@ TEST(ConstantTwistTrajectory, KnotsOnTheGridAtTheStartsScale) {
   EXPECT_LT(maxRotationErrorDeg(trajectory, pose), 1e-6);
 }
 
+TEST(StartTravelDirection, IsTheBodyFrameVelocityWhateverTheSpanAndRotation) {
+  // A constant twist: 0.6 m/s along x and 0.2 along z in the body frame while yawing at 0.3 rad/s
+  // (17 deg/s); over the span the chord's direction turns with the rotation, the twist's does not.
+  const Eigen::Vector3d v(0.6, 0.0, 0.2);
+  const PoseAt pose = constantTwist(v, Eigen::Vector3d(0.0, 0.3, 0.0));
+  const InitResult motion = startFrom(pose);
+  EXPECT_LT((startTravelDirection(motion) - v.normalized()).norm(), 1e-9);
+  // A shorter span of the same motion, later in time: the same direction.
+  InitResult later = motion;
+  later.t_a_ns = kT0 + 200'000'000;
+  const lie::SE3 T = pose(0.2).inverse() * pose(0.5);
+  later.T_a_b = lie::SE3(T.rotation(), T.translation().normalized());
+  EXPECT_LT(travelAngleDeg(motion, later), 1e-6);
+  // A start whose direction is 30 deg off (turned about y).
+  InitResult off = motion;
+  const lie::SE3 T_off = constantTwist(Eigen::AngleAxisd(M_PI / 6, Eigen::Vector3d::UnitY()) * v,
+                                       Eigen::Vector3d(0.0, 0.3, 0.0))(0.5);
+  off.T_a_b = lie::SE3(T_off.rotation(), T_off.translation().normalized());
+  EXPECT_NEAR(travelAngleDeg(motion, off), 30.0, 1e-6);
+}
+
 TEST(RefineStartRotations, FollowsARotationRateThatChangesInTheWindow) {
   const PoseAt pose = accelerating;
   const TrackMap tracks = tracksOf(pose, 120, 0.2, 0.3, 11, 4.0);

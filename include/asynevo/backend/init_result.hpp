@@ -11,10 +11,11 @@ namespace asynevo::backend {
 
 /// The check an attempt failed, in the order the checks are made: an attempt that tries several spans
 /// or methods reports the furthest it got.
-enum class InitRejection { None, Features, Motion, Model, Inliers, Parallax, Landmarks };
-inline constexpr int kInitRejections = 7;
+enum class InitRejection { None, Features, Motion, Model, Inliers, Parallax, Agreement, Landmarks };
+inline constexpr int kInitRejections = 8;
 
-/// stats.json's name of a rejection: "features", "motion", "model", "inliers", "parallax", "landmarks".
+/// stats.json's name of a rejection: "features", "motion", "model", "inliers", "parallax", "agreement",
+/// "landmarks".
 const char* rejectionName(InitRejection rejection);
 
 struct InitResult {

@@ -82,6 +82,9 @@ class SlidingWindowEstimator : public Estimator {
 
  private:
   void tryInitialize(int64_t t_ns);
+  /// init_agreement_deg: the start's motion agrees with the one the previous attempt found. Keeps the
+  /// motion for the next attempt; on disagreement records the failure.
+  bool agreesWithPreviousAttempt(const InitResult& motion);
   /// The configuration of an initialization attempt at t_ns: the counts relaxed once attempts have
   /// failed for init_relax_after_ms.
   BackendConfig initConfig(int64_t t_ns) const;
@@ -149,6 +152,8 @@ class SlidingWindowEstimator : public Estimator {
   double segment_depth_ = 0;        ///< median landmark depth at the segment's start (0: not yet known)
   double last_median_residual_px_ = 0;  ///< of the window's measurements after the latest solve
   std::optional<int64_t> last_init_attempt_ns_;
+  /// The motion the previous attempt found, when it found one (init_agreement_deg).
+  std::optional<InitResult> previous_start_motion_;
   int64_t last_event_ns_ = 0;
 
   std::vector<Knot> final_knots_;

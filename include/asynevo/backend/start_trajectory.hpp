@@ -19,6 +19,14 @@ namespace asynevo::backend {
 /// second (the monocular scale rule). Each knot's velocity is ξ.
 Trajectory constantTwistTrajectory(const InitResult& motion, int64_t t_end_ns, int64_t knot_dt_ns);
 
+/// The direction of travel of the start's constant twist in the body frame (the unit translational
+/// part ρ/|ρ| of ξ = log(T_a_b)/span): under a constant twist it is the same at every time of the span,
+/// so the motions two attempts found over different spans can be compared.
+lie::Vec3 startTravelDirection(const InitResult& motion);
+
+/// The angle between two start motions' travel directions (startTravelDirection), in degrees.
+double travelAngleDeg(const InitResult& a, const InitResult& b);
+
 struct RotationRefinement {
   int intervals = 0;          ///< knot intervals
   int refined = 0;            ///< knots whose rotation was fitted (those seen by enough features)

@@ -105,6 +105,7 @@ void BackendConfig::validate() const {
   requireRange("backend.init_ransac_px", init_ransac_px, 1e-3, 100.0);
   requireRange("backend.init_window_ms", init_window_ms, 10.0, 1e5);
   requireRange("backend.init_relax_after_ms", init_relax_after_ms, 0.0, 1e9);
+  requireRange("backend.init_agreement_deg", init_agreement_deg, 0.0, 180.0);
   requireRange("backend.init_relaxed_fraction", init_relaxed_fraction, 0.1, 1.0);
   if (init_method != "two-view" && init_method != "multi-view" && init_method != "both")
     throw ConfigError(fmt::format("configuration value backend.init_method = '{}' is not one of two-view, multi-view, both",

@@ -75,6 +75,10 @@ struct BackendConfig {
   /// When a start triangulates too few landmarks from its constant-twist knots, refit the knots'
   /// rotations to the tracks and triangulate again (backend/start_trajectory.hpp).
   bool init_refine_rotations = false;
+  /// A motion is accepted as a start only when the attempt one knot interval earlier also found one
+  /// whose translation direction (body frame) lies within this angle of it (0 = off): a start whose
+  /// geometry is too weak to repeat is not built on (docs/method/initialization.md, "Agreement").
+  double init_agreement_deg = 0.0;
 
   // --- tracking loss (docs/method/tracking_loss.md): the segment ends, the estimator starts again ---
   double loss_max_event_gap_ms = 250.0;  ///< a gap in the events longer than this ends the segment (0 = off)
@@ -128,6 +132,8 @@ struct BackendConfig {
     v("init_method", init_method, "initialization: two-view, multi-view or both (two-view first, multi-view once relaxed)");
     v("init_refine_rotations", init_refine_rotations,
       "initialization: refit the first knots' rotations to the tracks when too few landmarks triangulate");
+    v("init_agreement_deg", init_agreement_deg,
+      "initialization: a start needs the previous attempt's translation direction within this angle [deg] (0 = off)");
     v("loss_max_event_gap_ms", loss_max_event_gap_ms,
       "tracking loss: a gap in the events longer than this ends the segment [ms] (0 = off)");
     v("loss_min_landmarks", loss_min_landmarks, "tracking loss: fewer landmarks in the window is unsupported");
