@@ -46,6 +46,7 @@ const bag::Connection kPose{3, "/pose", bag::kPoseStampedType, bag::kPoseStamped
 const bag::Connection kTf{4, "/tf_cam", bag::kTransformStampedType, bag::kTransformStampedMd5, "-"};
 const bag::Connection kOdom{5, "/odom", bag::kOdometryType, bag::kOdometryMd5, "-"};
 const bag::Connection kInfo{6, "/camera_info", bag::kCameraInfoType, bag::kCameraInfoMd5, "-"};
+const bag::Connection kTfTopic{7, "/tf", bag::kTfMessageType, bag::kTfMessageMd5, "-"};
 
 /// Events, a pose topic of `pose`'s type (3 messages) and a CameraInfo of `model`.
 std::string topics(const bag::Connection& pose, const std::string& model, const std::vector<double>& d,
@@ -61,6 +62,7 @@ std::string topics(const bag::Connection& pose, const std::string& model, const 
     const uint64_t t = 1'000'000'000ull + i * 10'000'000ull;
     const std::string data = pose.id == 3   ? bag::poseStamped(t, p)
                              : pose.id == 4 ? bag::transformStamped(t, p)
+                             : pose.id == 7 ? bag::tfMessage({{t, "world", "cam", p}, {t, "odom", "base", p}})
                                             : bag::odometry(t, p);
     m.push_back({pose.id, t, data});
   }
@@ -92,6 +94,7 @@ int main(int argc, char** argv) {
       {"seed_posestamped_radtan.bag", topics(kPose, "plumb_bob", {-0.3, 0.1, 0.001, 0.002, 0.01})},
       {"seed_transform_equidistant.bag", topics(kTf, "equidistant", {0.1, 0.01, 0.001, 0.0001})},
       {"seed_odometry_pinhole_lz4.bag", topics(kOdom, "plumb_bob", {}, "lz4", bag::lz4)},
+      {"seed_tf_two_frames.bag", topics(kTfTopic, "plumb_bob", {})},
   };
   for (const auto& [name, bytes] : topic_seeds) std::ofstream(topics_dir + name, std::ios::binary) << bytes;
   return 0;

@@ -37,8 +37,9 @@ inline CLI::Option* addTopicOption(CLI::App* cmd, std::string& value) {
 inline CLI::Option* addGtTopicOption(CLI::App* cmd, std::string& value) {
   return cmd->add_option("--gt-topic", value,
                          "ROS bag: the pose topic that is the ground truth (geometry_msgs/PoseStamped, "
-                         "geometry_msgs/TransformStamped or nav_msgs/Odometry); needed only when the bag has several; "
-                         "when given it wins over a groundtruth.txt beside the bag");
+                         "geometry_msgs/TransformStamped or nav_msgs/Odometry), or TOPIC:FRAME for the child frame FRAME "
+                         "of a tf2_msgs/TFMessage topic such as /tf; needed only when the bag has several; when given "
+                         "it wins over a groundtruth.txt beside the bag");
 }
 
 }  // namespace asynevo::cli

@@ -12,6 +12,7 @@
 //   nav_msgs/Odometry            Header header, string child_frame_id,
 //                                PoseWithCovariance pose (Pose, float64[36] covariance),
 //                                TwistWithCovariance twist (Twist 6 f64, float64[36] covariance)
+//   tf2_msgs/TFMessage           TransformStamped[] transforms (also tf/tfMessage, the same definition)
 //   sensor_msgs/CameraInfo       Header header, u32 height, u32 width, string distortion_model,
 //                                float64[] D, float64[9] K, float64[9] R, float64[12] P,
 //                                u32 binning_x, u32 binning_y,
@@ -26,6 +27,7 @@
 #include <cmath>
 #include <cstring>
 #include <initializer_list>
+#include <map>
 #include <stdexcept>
 
 #include "asynevo/core/error.hpp"
@@ -42,6 +44,9 @@ constexpr const char* kTransformStamped = "geometry_msgs/TransformStamped";
 constexpr const char* kTransformStampedMd5 = "b5764a33bfeb3588febc2682852579b0";
 constexpr const char* kOdometry = "nav_msgs/Odometry";
 constexpr const char* kOdometryMd5 = "cd5e73d190d741a2f92e81eda573aca7";
+constexpr const char* kTfMessage = "tf2_msgs/TFMessage";
+constexpr const char* kTfMessageOld = "tf/tfMessage";  // ROS1's first tf package, same definition and sum
+constexpr const char* kTfMessageMd5 = "94810edda583a504dfda3829e70d7eec";
 constexpr const char* kEventPacket = "event_camera_msgs/EventPacket";
 constexpr const char* kEventPacketMd5 = "8a6101b351a64529ac77bd8b71074e52";
 constexpr const char* kCameraInfo = "sensor_msgs/CameraInfo";
@@ -83,8 +88,8 @@ class Cursor {
     pos_ += n;
     return s;
   }
-  /// std_msgs/Header: returns the stamp in nanoseconds.
-  int64_t header() {
+  /// std_msgs/Header: returns the stamp in nanoseconds, and the frame_id when asked.
+  int64_t header(std::string* frame_id = nullptr) {
     u32("the header's seq");
     const uint32_t sec = u32("the header's stamp");
     const uint32_t nsec = u32("the header's stamp");
@@ -92,7 +97,8 @@ class Cursor {
       bag_.failInMessage(fmt::format("the header's stamp {} s + {} ns has a nanosecond part of 10^9 or more", sec,
                                      nsec));
     }
-    string("the header's frame_id");
+    std::string frame = string("the header's frame_id");
+    if (frame_id) *frame_id = std::move(frame);
     return static_cast<int64_t>(sec) * 1'000'000'000 + nsec;
   }
   void skip(std::size_t n, const char* what) {
@@ -168,25 +174,106 @@ std::vector<std::string> rosbagCameraInfoTopics(const std::string& path) { retur
 
 namespace {
 
-io_detail::BagTopicQuery poseQuery(const std::string& topic) {
+/// --gt-topic NAME or NAME:FRAME (ROS names have no ':'; graph resource names, wiki.ros.org/Names): FRAME
+/// is the child frame of a TFMessage topic.
+struct GtTopicChoice {
+  std::string topic;
+  std::string frame;
+  bool tf = false;  ///< the topic is a TFMessage topic of the bag
+};
+
+GtTopicChoice parseGtTopic(const std::string& path, const std::string& requested) {
+  GtTopicChoice choice;
+  const std::size_t colon = requested.find(':');
+  choice.topic = requested.substr(0, colon);
+  if (colon != std::string::npos) choice.frame = requested.substr(colon + 1);
+  if (!choice.topic.empty()) {
+    for (const std::string& name : topicsOfTypes(path, {kTfMessage, kTfMessageOld})) choice.tf = choice.tf || name == choice.topic;
+  }
+  if (colon != std::string::npos && (!choice.tf || choice.frame.empty())) {
+    throw InputError(path, fmt::format("{} '{}': TOPIC:FRAME names a child frame of a tf2_msgs/TFMessage topic, "
+                                       "and {}",
+                                       kGroundTruthTopicFlag, requested,
+                                       choice.frame.empty() ? "the frame is empty"
+                                                            : "the bag has no such topic '" + choice.topic + "'"));
+  }
+  return choice;
+}
+
+io_detail::BagTopicQuery poseQuery(const GtTopicChoice& choice) {
   io_detail::BagTopicQuery query;
-  query.types = {{kPoseStamped, kPoseStampedMd5}, {kTransformStamped, kTransformStampedMd5}, {kOdometry, kOdometryMd5}};
-  query.topic = topic;
+  if (choice.tf) {
+    query.types = {{kTfMessage, kTfMessageMd5}, {kTfMessageOld, kTfMessageMd5}};
+  } else {
+    query.types = {{kPoseStamped, kPoseStampedMd5}, {kTransformStamped, kTransformStampedMd5}, {kOdometry, kOdometryMd5}};
+  }
+  query.topic = choice.topic;
   query.flag = kGroundTruthTopicFlag;
   query.what = "pose";
   query.choose = "; choose one with --gt-topic NAME";
   return query;
 }
 
+/// The poses of one child frame of a TFMessage topic: every transform whose child_frame_id is `frame`, or,
+/// without a frame, of the topic's only child frame. One parent frame per child.
+void readTfPoses(io_detail::RosbagReader& bag, const std::string& path, const std::string& frame, BagGroundTruth& gt) {
+  std::map<std::string, std::pair<std::string, StampedTrajectory>> children;  // child -> (parent, poses)
+  const unsigned char* data = nullptr;
+  std::size_t size = 0;
+  while (bag.nextRawMessage(data, size)) {
+    Cursor m(bag, data, size);
+    const uint32_t count = m.u32("the length of transforms");
+    for (uint32_t i = 0; i < count; ++i) {
+      std::string parent;
+      const int64_t t_ns = m.header(&parent);
+      const std::string child = m.string("child_frame_id");
+      const StampedPose pose = readPose(m, bag, t_ns);
+      if (!frame.empty() && child != frame) continue;
+      auto [it, added] = children.try_emplace(child, parent, StampedTrajectory{});
+      if (it->second.first != parent) {
+        bag.failInMessage(fmt::format("frame {} has two parents, {} and {}: its poses are not one trajectory", child,
+                                      it->second.first, parent));
+      }
+      StampedTrajectory& poses = it->second.second;
+      if (!poses.empty() && pose.t_ns < poses.back().t_ns)
+        bag.failInMessage(fmt::format("the stamps of frame {} go backwards; poses must be sorted by time", child));
+      poses.push_back(pose);
+    }
+    m.end(bag.topicType().c_str());
+  }
+  if (children.size() != 1) {
+    if (!frame.empty())
+      throw InputError(path, fmt::format("the tf topic {} has no transform to frame {}", gt.topic, frame));
+    std::string list;
+    for (const auto& [child, entry] : children)
+      list += fmt::format("{}{} (parent {}, {} poses)", list.empty() ? "" : ", ", child, entry.first, entry.second.size());
+    throw InputError(path, children.empty()
+                               ? fmt::format("the tf topic {} has no transforms", gt.topic)
+                               : fmt::format("the tf topic {} has {} child frames: {}; choose one with --gt-topic "
+                                             "{}:FRAME",
+                                             gt.topic, children.size(), list, gt.topic));
+  }
+  gt.topic += ":" + children.begin()->first;
+  gt.poses = std::move(children.begin()->second.second);
+}
+
 }  // namespace
 
 void checkRosbagPoseTopic(const std::string& path, const std::string& topic) {
-  const io_detail::RosbagReader bag(path, poseQuery(topic));
+  const io_detail::RosbagReader bag(path, poseQuery(parseGtTopic(path, topic)));
 }
 
 std::optional<BagGroundTruth> readRosbagGroundTruth(const std::string& path, const std::string& topic) {
-  io_detail::RosbagReader bag(path, poseQuery(topic));
+  const GtTopicChoice choice = parseGtTopic(path, topic);
+  io_detail::RosbagReader bag(path, poseQuery(choice));
   if (!bag.hasTopic()) return std::nullopt;
+  if (choice.tf) {
+    BagGroundTruth gt;
+    gt.topic = bag.topic();
+    gt.type = bag.topicType();
+    readTfPoses(bag, path, choice.frame, gt);
+    return gt;
+  }
   BagGroundTruth gt;
   gt.topic = bag.topic();
   gt.type = bag.topicType();

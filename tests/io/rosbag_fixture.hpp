@@ -88,6 +88,8 @@ const std::string kTransformStampedType = "geometry_msgs/TransformStamped";
 const std::string kTransformStampedMd5 = "b5764a33bfeb3588febc2682852579b0";
 const std::string kOdometryType = "nav_msgs/Odometry";
 const std::string kOdometryMd5 = "cd5e73d190d741a2f92e81eda573aca7";
+const std::string kTfMessageType = "tf2_msgs/TFMessage";
+const std::string kTfMessageMd5 = "94810edda583a504dfda3829e70d7eec";
 const std::string kCameraInfoType = "sensor_msgs/CameraInfo";
 const std::string kCameraInfoMd5 = "c9a58c1b0b154e0e6da7578cb991d214";
 
@@ -115,6 +117,18 @@ inline std::string poseStamped(uint64_t stamp_ns, const Pose& p, uint32_t seq = 
 /// geometry_msgs/TransformStamped: header, child_frame_id, transform (translation, rotation).
 inline std::string transformStamped(uint64_t stamp_ns, const Pose& p, uint32_t seq = 0) {
   return rosHeader(seq, stamp_ns, "world") + rosString("camera") + pose(p);
+}
+/// One transform of a tf2_msgs/TFMessage (a geometry_msgs/TransformStamped with the given frames).
+struct Transform {
+  uint64_t stamp_ns = 0;
+  std::string parent, child;
+  Pose pose;
+};
+/// tf2_msgs/TFMessage: TransformStamped[] transforms.
+inline std::string tfMessage(const std::vector<Transform>& transforms) {
+  std::string m = u32(static_cast<uint32_t>(transforms.size()));
+  for (const Transform& t : transforms) m += rosHeader(0, t.stamp_ns, t.parent) + rosString(t.child) + pose(t.pose);
+  return m;
 }
 /// nav_msgs/Odometry: header, child_frame_id, PoseWithCovariance (pose, 36 f64), TwistWithCovariance (6 + 36 f64).
 inline std::string odometry(uint64_t stamp_ns, const Pose& p, uint32_t seq = 0) {

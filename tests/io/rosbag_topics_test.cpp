@@ -127,6 +127,75 @@ TEST(RosbagGroundTruth, TopicChoice) {
   EXPECT_TRUE(rosbagPoseTopics(none).empty());
 }
 
+TEST(RosbagGroundTruth, OneChildFrameOfATfTopic) {
+  // Each /tf message holds the camera's pose i (parent world) and a robot link's (parent odom), in that
+  // order or the reverse.
+  const bag::Connection tf{5, "/tf", bag::kTfMessageType, bag::kTfMessageMd5, "(definition)"};
+  std::vector<bag::Message> messages;
+  for (int i = 0; i < 6; ++i) {
+    const bag::Transform camera{stampAt(i), "world", "davis", poseAt(i)};
+    const bag::Transform link{stampAt(i) + 5, "odom", "base_link", poseAt(100 + i)};
+    messages.push_back({5, stampAt(i) + 777, bag::tfMessage(i % 2 ? std::vector{camera, link} : std::vector{link, camera})});
+  }
+  for (const bag::Message& m : poseMessages(1, bag::poseStamped, 3)) messages.push_back(m);
+  TempDir dir;
+  const std::string path = dir.write("tf.bag", bag::buildBag({kDvs, kPose, tf}, {bag::Chunk{messages}}));
+  const auto gt = readRosbagGroundTruth(path, "/tf:davis");
+  ASSERT_TRUE(gt.has_value());
+  EXPECT_EQ(gt->topic, "/tf:davis");
+  EXPECT_EQ(gt->type, bag::kTfMessageType);
+  expectPoses(gt->poses, 6);
+  EXPECT_NO_THROW(checkRosbagPoseTopic(path, "/tf:davis"));
+  // Not chosen without being named: the bag's pose topic stays the ground truth.
+  EXPECT_EQ(readRosbagGroundTruth(path)->topic, "/optitrack/pose");
+  // /tf alone with two child frames lists them.
+  EXPECT_NE(bagError([&] { readRosbagGroundTruth(path, "/tf"); })
+                .find("the tf topic /tf has 2 child frames: base_link (parent odom, 6 poses), davis (parent world, 6 "
+                      "poses); choose one with --gt-topic /tf:FRAME"),
+            std::string::npos)
+      << bagError([&] { readRosbagGroundTruth(path, "/tf"); });
+  EXPECT_NE(bagError([&] { readRosbagGroundTruth(path, "/tf:camera"); }).find("the tf topic /tf has no transform to frame camera"),
+            std::string::npos);
+  EXPECT_NE(bagError([&] { readRosbagGroundTruth(path, "/optitrack/pose:davis"); })
+                .find("TOPIC:FRAME names a child frame of a tf2_msgs/TFMessage topic, and the bag has no such topic "
+                      "'/optitrack/pose'"),
+            std::string::npos);
+  EXPECT_NE(bagError([&] { checkRosbagPoseTopic(path, "/tf:"); }).find("the frame is empty"), std::string::npos);
+  // With one child frame, the topic's name is enough.
+  std::vector<bag::Message> only;
+  for (int i = 0; i < 4; ++i)
+    only.push_back({5, stampAt(i), bag::tfMessage({bag::Transform{stampAt(i), "world", "davis", poseAt(i)}})});
+  const std::string one = dir.write("one.bag", bag::buildBag({kDvs, tf}, {bag::Chunk{only}}));
+  const auto single = readRosbagGroundTruth(one, "/tf");
+  ASSERT_TRUE(single.has_value());
+  EXPECT_EQ(single->topic, "/tf:davis");
+  expectPoses(single->poses, 4);
+}
+
+TEST(RosbagGroundTruth, TfFramesWithTwoParentsOrStampsGoingBackAreErrors) {
+  const bag::Connection tf{5, "/tf", bag::kTfMessageType, bag::kTfMessageMd5, "(definition)"};
+  TempDir dir;
+  const std::string parents = dir.write(
+      "parents.bag", bag::buildBag({kDvs, tf}, {bag::Chunk{{{5, stampAt(0), bag::tfMessage({{stampAt(0), "world", "davis", poseAt(0)}})},
+                                                            {5, stampAt(1), bag::tfMessage({{stampAt(1), "map", "davis", poseAt(1)}})}}}}));
+  EXPECT_NE(bagError([&] { readRosbagGroundTruth(parents, "/tf:davis"); })
+                .find("frame davis has two parents, world and map"),
+            std::string::npos)
+      << bagError([&] { readRosbagGroundTruth(parents, "/tf:davis"); });
+  const std::string back = dir.write(
+      "back.bag", bag::buildBag({kDvs, tf}, {bag::Chunk{{{5, stampAt(0), bag::tfMessage({{stampAt(1), "world", "davis", poseAt(1)},
+                                                                                          {stampAt(0), "world", "davis", poseAt(0)}})}}}}));
+  EXPECT_NE(bagError([&] { readRosbagGroundTruth(back, "/tf:davis"); }).find("the stamps of frame davis go backwards"),
+            std::string::npos);
+  // A transform cut short names the field.
+  std::string cut = bag::tfMessage({{stampAt(0), "world", "davis", poseAt(0)}});
+  cut.resize(cut.size() - 8);
+  const std::string short_message = dir.write("short.bag", bag::buildBag({kDvs, tf}, {bag::Chunk{{{5, stampAt(0), cut}}}}));
+  EXPECT_NE(bagError([&] { readRosbagGroundTruth(short_message, "/tf:davis"); }).find("malformed message: the pose needs 8 bytes"),
+            std::string::npos)
+      << bagError([&] { readRosbagGroundTruth(short_message, "/tf:davis"); });
+}
+
 TEST(RosbagGroundTruth, BadMessages) {
   TempDir dir;
   // Another revision (MD5 sum) of the type.

@@ -1,6 +1,7 @@
 #pragma once
 // Ground truth and calibration stored in a ROS1 bag beside its events (docs/reference/formats_rosbag.md):
-// poses from one topic of geometry_msgs/PoseStamped, geometry_msgs/TransformStamped or nav_msgs/Odometry,
+// poses from one topic of geometry_msgs/PoseStamped, geometry_msgs/TransformStamped or nav_msgs/Odometry
+// (or one child frame of a tf2_msgs/TFMessage topic),
 // the camera from the first message of a sensor_msgs/CameraInfo topic. Messages are decoded from their
 // ROS1 serialization by hand (no ROS library), every length checked; a malformed message is an InputError
 // naming the bag, the byte offset and the message's index among its topic's messages.
@@ -27,7 +28,10 @@ struct BagGroundTruth {
 };
 
 /// The poses of the bag's pose topic: `topic` when given (an error when it is missing or not a pose type),
-/// else the bag's only topic of a pose type; std::nullopt when there is none. Several pose topics and no
+/// else the bag's only topic of a pose type; std::nullopt when there is none. `topic` may also be
+/// "NAME:FRAME" or "NAME" for a tf2_msgs/TFMessage topic: the transforms to child frame FRAME (or to the
+/// topic's only child frame), and the result's topic is then "NAME:FRAME"; tf topics are read only when
+/// named. Several pose topics and no
 /// `topic` is an InputError listing them. Poses must be finite, quaternions non-zero (normalized), stamps
 /// non-decreasing.
 std::optional<BagGroundTruth> readRosbagGroundTruth(const std::string& path, const std::string& topic = "");
