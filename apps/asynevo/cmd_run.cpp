@@ -1,6 +1,7 @@
-// 'asynevo run --dataset PATH [--format auto|ecd|mvsec|aevt|evt3|evt2|dat|aedat4|rosbag|dsec] [--calib FILE] [--config FILE]
+// 'asynevo run --dataset PATH|--frames DIR [--format auto|ecd|mvsec|aevt|evt3|evt2|dat|aedat4|rosbag|dsec] [--calib FILE] [--config FILE]
 //  [--backend window|incremental|incremental-frozen] [--realtime [--speed X]] --out DIR' (contract: DESIGN.md §1).
-// The work is pipeline::runDataset (docs/pipeline.md); this file parses, shows progress and reports.
+// The work is pipeline::runDataset (docs/pipeline.md), or with --frames the frame-based baseline
+// pipeline::runFrameFolder (docs/results/repeated_texture.md); this file parses, shows progress and reports.
 #include <fmt/format.h>
 
 #include <string>
@@ -8,6 +9,7 @@
 #include "asynevo/core/error.hpp"
 #include "asynevo/core/time.hpp"
 #include "asynevo/pipeline/run.hpp"
+#include "asynevo/pipeline/run_frames.hpp"
 #include "commands.hpp"
 #include "progress.hpp"
 #include "sensor_option.hpp"
@@ -19,12 +21,32 @@ namespace {
 struct RunCliOptions {
   pipeline::RunOptions run;
   std::string backend = "window";
+  std::string frames;  ///< --frames DIR: the frame-based (KLT) baseline instead of the events
 };
 
 void runRun(RunCliOptions& options) {
   const auto kind = pipeline::parseBackendKind(options.backend);
   if (!kind) throw Error("unknown backend '" + options.backend + "' (window, incremental, incremental-frozen)");
   options.run.backend = *kind;
+  if (options.run.dataset.empty() == options.frames.empty())
+    throw Error("give exactly one of --dataset PATH (events) and --frames DIR (intensity frames)");
+  if (!options.frames.empty()) {
+    pipeline::FramesRunOptions frames;
+    frames.frames = options.frames;
+    frames.calib = options.run.calib;
+    frames.config_path = options.run.config_path;
+    frames.backend = *kind;
+    frames.out = options.run.out;
+    const pipeline::RunSummary summary = pipeline::runFrameFolder(frames);
+    const std::string text = pipeline::runSummaryText(summary);  // its first line counts events: none here
+    const auto& p = summary.pipeline;
+    fmt::print("frames          {} over {:.3f} s ({}x{}, KLT baseline), {:.2f} s wall time\n{}", p.packets,
+               nsToSeconds(p.last_t_ns - p.first_t_ns), summary.width, summary.height, p.wall_seconds,
+               text.substr(text.find('\n') + 1));
+    if (!summary.initialized())
+      throw Error(pipeline::initializationFailureMessage(summary) + "\n  partial outputs are in " + summary.out_dir);
+    return;
+  }
   Progress progress;
   pipeline::RunSummary summary;
   summary = pipeline::runDataset(options.run, [&](const pipeline::PipelineProgress& p) {
@@ -43,7 +65,10 @@ void addRunCommand(CLI::App& app) {
   static RunCliOptions options;  // CLI11 binds options to stable addresses; one parse per process
   pipeline::RunOptions& run = options.run;
   auto* cmd = app.add_subcommand("run", "Estimate the camera trajectory of a dataset");
-  cmd->add_option("--dataset", run.dataset, "ECD-style folder or event file")->required();
+  cmd->add_option("--dataset", run.dataset, "ECD-style folder or event file (or --frames)");
+  cmd->add_option("--frames", options.frames,
+                  "instead of events: a folder of intensity frames (images.txt, as 'simulate --frame-rate' "
+                  "writes) run by the frame-based KLT baseline into the same backend");
   cmd->add_option("--format", run.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag, dsec)")->capture_default_str();
   cmd->add_option("--calib", run.calib,
                   "calibration file (ECD calib.txt or Kalibr YAML; default: the dataset's, else a ROS bag's "
