@@ -33,7 +33,7 @@ Scene makeGratingScene(const Motion& motion, const CameraModel& camera, uint64_t
   wall.half_width = std::max(wall.half_width, 0.5 * (x_hi - x_lo) + view_margin);
   scene.planes.push_back(wall);
 
-  // Landmark panels over the same range, every panel_spacing_m.
+  // Landmark panels over the first panel_stretch_m of that range (and the view before it).
   const double half_view = geometry.panel_distance_m * 0.5 * camera.width() / camera.fx();
   TextureOptions panel_tex;
   panel_tex.seed = seed + 7;
@@ -42,7 +42,7 @@ Scene makeGratingScene(const Motion& motion, const CameraModel& camera, uint64_t
   const auto shapes = makeShapesTexture(panel_tex);
   int k = 0;
   for (double x = std::floor((x_lo - half_view) / geometry.panel_spacing_m) * geometry.panel_spacing_m + 0.4;
-       x <= x_hi + half_view; x += geometry.panel_spacing_m, ++k) {
+       x <= std::min(x_hi, x_lo + geometry.panel_stretch_m) + half_view; x += geometry.panel_spacing_m, ++k) {
     TexturedPlane panel;
     panel.name = fmt::format("landmark {}", k);
     const double y = (k % 2 == 0 ? -0.3 : 0.35);  // alternate above and below the optical axis

@@ -1,8 +1,8 @@
 #pragma once
 // The 'grating' scene of the repeated-texture experiment (docs/results/repeated_texture.md): a wall
 // of identical dark blocks (sim::makeGratingTexture) facing the start pose, and a few distinct
-// landmark panels (shapes texture) in front of it, spaced along the start camera's x axis over the
-// stretch the motion covers.
+// landmark panels (shapes texture) in front of it along the first metres of the start camera's x axis
+// (for the start; the rest of the path sees only the repeated texture).
 //
 // Aliasing condition for a camera moving along x at speed v past the wall at depth Z, seen at frame
 // rate F by a camera of focal length f (pixels): the texture moves f·v/(Z·F) pixels per frame and
@@ -23,6 +23,9 @@ struct GratingGeometry {
   double panel_distance_m = 2.4;     ///< Z of the landmark panels
   double panel_size_m = 0.35;        ///< side of a landmark panel
   double panel_spacing_m = 2.5;      ///< panels every this many metres along x
+  /// Panels only over the first this many metres of the path (the walking stretch of speed-ramp is
+  /// 2.8 m): further on the camera sees the grating alone, a purely repeated texture.
+  double panel_stretch_m = 4.0;
 };
 
 /// The grating scene for `motion` seen by `camera`.
