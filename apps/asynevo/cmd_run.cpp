@@ -22,6 +22,7 @@ struct RunCliOptions {
   pipeline::RunOptions run;
   std::string backend = "window";
   std::string frames;  ///< --frames DIR: the frame-based (KLT) baseline instead of the events
+  frames::KltOptions klt;
 };
 
 void runRun(RunCliOptions& options) {
@@ -37,6 +38,7 @@ void runRun(RunCliOptions& options) {
     frames.config_path = options.run.config_path;
     frames.backend = *kind;
     frames.out = options.run.out;
+    frames.klt = options.klt;
     const pipeline::RunSummary summary = pipeline::runFrameFolder(frames);
     const std::string text = pipeline::runSummaryText(summary);  // its first line counts events: none here
     const auto& p = summary.pipeline;
@@ -69,6 +71,13 @@ void addRunCommand(CLI::App& app) {
   cmd->add_option("--frames", options.frames,
                   "instead of events: a folder of intensity frames (images.txt, as 'simulate --frame-rate' "
                   "writes) run by the frame-based KLT baseline into the same backend");
+  cmd->add_option("--klt-levels", options.klt.pyramid_levels,
+                  "with --frames: Lucas-Kanade pyramid levels above the image (OpenCV maxLevel)")
+      ->check(CLI::Range(0, 6))
+      ->capture_default_str();
+  cmd->add_option("--klt-features", options.klt.max_features, "with --frames: features tracked at once")
+      ->check(CLI::Range(10, 2000))
+      ->capture_default_str();
   cmd->add_option("--format", run.format, "input format (auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag, dsec)")->capture_default_str();
   cmd->add_option("--calib", run.calib,
                   "calibration file (ECD calib.txt or Kalibr YAML; default: the dataset's, else a ROS bag's "
