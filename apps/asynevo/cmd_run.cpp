@@ -40,11 +40,15 @@ void runRun(RunCliOptions& options) {
     frames.out = options.run.out;
     frames.klt = options.klt;
     const pipeline::RunSummary summary = pipeline::runFrameFolder(frames);
-    const std::string text = pipeline::runSummaryText(summary);  // its first line counts events: none here
+    // runSummaryText's first two lines count events and the event frontend's features: replaced here.
+    std::string text = pipeline::runSummaryText(summary);
+    text = text.substr(text.find('\n', text.find('\n') + 1) + 1);
     const auto& p = summary.pipeline;
-    fmt::print("frames          {} over {:.3f} s ({}x{}, KLT baseline), {:.2f} s wall time\n{}", p.packets,
-               nsToSeconds(p.last_t_ns - p.first_t_ns), summary.width, summary.height, p.wall_seconds,
-               text.substr(text.find('\n') + 1));
+    fmt::print("frames          {} over {:.3f} s ({}x{}, KLT baseline, {} pyramid levels), {:.2f} s wall time\n"
+               "KLT tracks      {} features, {} measurements, at most {} at once\n{}",
+               p.packets, nsToSeconds(p.last_t_ns - p.first_t_ns), summary.width, summary.height,
+               options.klt.pyramid_levels, p.wall_seconds, summary.frontend.features_created, p.measurements,
+               summary.frontend.max_active_features, text);
     if (!summary.initialized())
       throw Error(pipeline::initializationFailureMessage(summary) + "\n  partial outputs are in " + summary.out_dir);
     return;
