@@ -79,6 +79,8 @@ void addRunCommand(CLI::App& app) {
                   "with --frames: Lucas-Kanade pyramid levels above the image (OpenCV maxLevel)")
       ->check(CLI::Range(0, 6))
       ->capture_default_str();
+  cmd->add_flag("--klt-predict", options.klt.predict,
+                "with --frames: start each Lucas-Kanade search at a constant-velocity prediction");
   cmd->add_option("--klt-features", options.klt.max_features, "with --frames: features tracked at once")
       ->check(CLI::Range(10, 2000))
       ->capture_default_str();

@@ -1,10 +1,28 @@
 #include "asynevo/frames/klt_tracker.hpp"
 
+#include <algorithm>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 #include <stdexcept>
 
 namespace asynevo::frames {
+
+namespace {
+
+/// Component-wise median.
+cv::Point2f medianOf(const std::vector<cv::Point2f>& points) {
+  std::vector<float> x, y;
+  for (const cv::Point2f& p : points) {
+    x.push_back(p.x);
+    y.push_back(p.y);
+  }
+  const auto mid = static_cast<std::ptrdiff_t>(points.size() / 2);
+  std::nth_element(x.begin(), x.begin() + mid, x.end());
+  std::nth_element(y.begin(), y.begin() + mid, y.end());
+  return {x[static_cast<std::size_t>(mid)], y[static_cast<std::size_t>(mid)]};
+}
+
+}  // namespace
 
 KltTracker::KltTracker(const CameraModel& camera, const KltOptions& options) : camera_(camera), options_(options) {
   if (options_.max_features < 1 || options_.window_px < 3 || options_.pyramid_levels < 0)
@@ -27,11 +45,20 @@ KltFrameResult KltTracker::track(int64_t t_ns, const cv::Mat& grey) {
     std::vector<cv::Point2f> forward, backward;
     std::vector<uchar> status_f, status_b;
     std::vector<float> error;
+    int flags = 0;
+    if (options_.predict) {  // constant-velocity starts: forward at the prediction, backward at the start
+      flags = cv::OPTFLOW_USE_INITIAL_FLOW;
+      for (std::size_t i = 0; i < points_.size(); ++i) {
+        const cv::Point2f d = displacements_[i] == cv::Point2f(0, 0) ? median_displacement_ : displacements_[i];
+        forward.push_back(points_[i] + d);
+      }
+      backward = points_;
+    }
     cv::calcOpticalFlowPyrLK(previous_, grey, points_, forward, status_f, error, window, options_.pyramid_levels,
-                             criteria);
+                             criteria, flags);
     cv::calcOpticalFlowPyrLK(grey, previous_, forward, backward, status_b, error, window, options_.pyramid_levels,
-                             criteria);
-    std::vector<cv::Point2f> kept_points;
+                             criteria, flags);
+    std::vector<cv::Point2f> kept_points, kept_displacements;
     std::vector<int64_t> kept_ids;
     for (std::size_t i = 0; i < points_.size(); ++i) {
       const cv::Point2f d = backward[i] - points_[i];
@@ -39,12 +66,15 @@ KltFrameResult KltTracker::track(int64_t t_ns, const cv::Mat& grey) {
                       d.x * d.x + d.y * d.y <= options_.max_fb_error_px * options_.max_fb_error_px;
       if (ok) {
         kept_points.push_back(forward[i]);
+        kept_displacements.push_back(forward[i] - points_[i]);
         kept_ids.push_back(ids_[i]);
       } else {
         result.ended.push_back(ids_[i]);
       }
     }
+    if (!kept_displacements.empty()) median_displacement_ = medianOf(kept_displacements);
     points_ = std::move(kept_points);
+    displacements_ = std::move(kept_displacements);
     ids_ = std::move(kept_ids);
   }
   // 2. New corners away from the tracked ones.
@@ -58,6 +88,7 @@ KltFrameResult KltTracker::track(int64_t t_ns, const cv::Mat& grey) {
     for (const cv::Point2f& c : corners) {
       if (!insideBorder(c)) continue;
       points_.push_back(c);
+      displacements_.emplace_back(0.f, 0.f);
       ids_.push_back(next_id_++);
     }
   }

@@ -68,5 +68,51 @@ TEST(KltTracker, RecoversASubPixelShiftAndKeepsIds) {
   EXPECT_EQ(second.ended.size() + static_cast<std::size_t>(matched), first.measurements.size());
 }
 
+/// A grating of dark blocks, period 16 px in x and y (half-period blocks), at kSuper times the frame
+/// resolution and wide enough for 80 px of motion.
+cv::Mat grating() {
+  cv::Mat image(kSuper * 260, kSuper * 420, CV_32F);
+  for (int y = 0; y < image.rows; ++y)
+    for (int x = 0; x < image.cols; ++x)
+      image.at<float>(y, x) = (x / kSuper) % 16 < 8 && (y / kSuper) % 16 < 8 ? 70.f : 180.f;
+  return image;
+}
+
+/// Median x displacement of the features seen in both results.
+double medianDx(const KltFrameResult& a, const KltFrameResult& b) {
+  std::map<int64_t, float> x;
+  for (const TrackMeasurement& m : a.measurements) x[m.feature_id] = m.x;
+  std::vector<double> dx;
+  for (const TrackMeasurement& m : b.measurements)
+    if (x.count(m.feature_id)) dx.push_back(m.x - x[m.feature_id]);
+  if (dx.empty()) return 0;
+  std::nth_element(dx.begin(), dx.begin() + static_cast<std::ptrdiff_t>(dx.size() / 2), dx.end());
+  return dx[dx.size() / 2];
+}
+
+// The grating moves left faster and faster: 3, 5, ..., 13 px per frame (period 16 px). From one frame
+// to the next, Lucas–Kanade finds the nearest match: beyond half a period that is the alias (the true
+// motion minus 16 px). Started at a constant-velocity prediction it follows the true motion.
+TEST(KltTracker, AliasesOnARepeatedTextureUnlessItPredicts) {
+  const CameraModel camera = CameraModel::pinhole(240, 180, 200, 200, 120, 90);
+  const cv::Mat image = grating();
+  for (const bool predict : {false, true}) {
+    KltOptions options;
+    options.pyramid_levels = 1;
+    options.predict = predict;
+    KltTracker tracker(camera, options);
+    double position = 0;
+    KltFrameResult previous = tracker.track(0, view(image, position, 0));
+    for (int step = 3; step <= 13; step += 2) {  // never exactly half a period
+      position += step;
+      const KltFrameResult next = tracker.track(step, view(image, position, 0));
+      const double dx = medianDx(previous, next);
+      const double expected = predict || step < 8 ? -step : 16 - step;
+      EXPECT_NEAR(dx, expected, 0.05) << "predict " << predict << ", " << step << " px per frame";
+      previous = next;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace asynevo::frames

@@ -23,6 +23,10 @@ struct KltOptions {
   int pyramid_levels = 3;          ///< pyramid levels above the image (OpenCV maxLevel)
   double max_fb_error_px = 1.0;    ///< forward–backward disagreement above which a track ends
   double border_px = 4.0;          ///< tracks closer than this to the image border end
+  /// Start each Lucas–Kanade search at a constant-velocity prediction: the feature's displacement in
+  /// the previous frame (a new feature: the median displacement of the others), instead of at its last
+  /// position.
+  bool predict = false;
 };
 
 /// What one frame produced: the measurements (in feature-id order) and the features that ended.
@@ -51,6 +55,8 @@ class KltTracker {
   cv::Mat previous_;
   std::vector<cv::Point2f> points_;
   std::vector<int64_t> ids_;
+  std::vector<cv::Point2f> displacements_;  ///< each feature's last displacement (zero when new)
+  cv::Point2f median_displacement_{0, 0};   ///< of the features tracked into the previous frame
   int64_t next_id_ = 0;
 };
 
