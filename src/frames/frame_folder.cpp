@@ -33,11 +33,12 @@ std::vector<FrameEntry> readFrameList(const std::string& dir) {
       throw InputError::atLine(list.string(), number, "expected 't path' (seconds, image file)");
     FrameEntry frame{secondsToNs(t_s), (std::filesystem::path(dir) / path).string()};
     if (!frames.empty() && frame.t_ns <= frames.back().t_ns)
-      throw InputError::atLine(list.string(), number,
-                               fmt::format("time {} s does not increase (previous {} s)", t_s,
-                                           nsToSeconds(frames.back().t_ns)));
+      throw InputError::atLine(
+          list.string(), number,
+          fmt::format("time {} s does not increase (previous {} s)", t_s, nsToSeconds(frames.back().t_ns)));
     if (!std::filesystem::is_regular_file(frame.path))
-      throw InputError::atLine(list.string(), number, fmt::format("image file {} does not exist", frame.path));
+      throw InputError::atLine(list.string(), number,
+                               fmt::format("image file {} does not exist", frame.path));
     frames.push_back(std::move(frame));
   }
   if (frames.empty()) throw InputError(list.string(), "lists no frame");
@@ -48,9 +49,10 @@ cv::Mat loadFrame(const FrameEntry& frame, int width, int height) {
   cv::Mat image = cv::imread(frame.path, cv::IMREAD_GRAYSCALE);
   if (image.empty()) throw InputError(frame.path, "cannot read the image (not an image file OpenCV reads)");
   if (width > 0 && height > 0 && (image.cols != width || image.rows != height))
-    throw InputError(frame.path, fmt::format("image is {}x{} pixels, expected {}x{} (the first frame's or the "
-                                             "calibration's size)",
-                                             image.cols, image.rows, width, height));
+    throw InputError(frame.path,
+                     fmt::format("image is {}x{} pixels, expected {}x{} (the first frame's or the "
+                                 "calibration's size)",
+                                 image.cols, image.rows, width, height));
   return image;
 }
 

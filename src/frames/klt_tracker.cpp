@@ -24,7 +24,8 @@ cv::Point2f medianOf(const std::vector<cv::Point2f>& points) {
 
 }  // namespace
 
-KltTracker::KltTracker(const CameraModel& camera, const KltOptions& options) : camera_(camera), options_(options) {
+KltTracker::KltTracker(const CameraModel& camera, const KltOptions& options)
+    : camera_(camera), options_(options) {
   if (options_.max_features < 1 || options_.window_px < 3 || options_.pyramid_levels < 0)
     throw std::invalid_argument("KLT options: max_features >= 1, window_px >= 3, pyramid_levels >= 0");
 }
@@ -49,15 +50,16 @@ KltFrameResult KltTracker::track(int64_t t_ns, const cv::Mat& grey) {
     if (options_.predict) {  // constant-velocity starts: forward at the prediction, backward at the start
       flags = cv::OPTFLOW_USE_INITIAL_FLOW;
       for (std::size_t i = 0; i < points_.size(); ++i) {
-        const cv::Point2f d = displacements_[i] == cv::Point2f(0, 0) ? median_displacement_ : displacements_[i];
+        const cv::Point2f d =
+            displacements_[i] == cv::Point2f(0, 0) ? median_displacement_ : displacements_[i];
         forward.push_back(points_[i] + d);
       }
       backward = points_;
     }
-    cv::calcOpticalFlowPyrLK(previous_, grey, points_, forward, status_f, error, window, options_.pyramid_levels,
-                             criteria, flags);
-    cv::calcOpticalFlowPyrLK(grey, previous_, forward, backward, status_b, error, window, options_.pyramid_levels,
-                             criteria, flags);
+    cv::calcOpticalFlowPyrLK(previous_, grey, points_, forward, status_f, error, window,
+                             options_.pyramid_levels, criteria, flags);
+    cv::calcOpticalFlowPyrLK(grey, previous_, forward, backward, status_b, error, window,
+                             options_.pyramid_levels, criteria, flags);
     std::vector<cv::Point2f> kept_points, kept_displacements;
     std::vector<int64_t> kept_ids;
     for (std::size_t i = 0; i < points_.size(); ++i) {

@@ -20,8 +20,9 @@ std::string frameFolderCalibration(const FramesRunOptions& options) {
   const std::filesystem::path dir(options.frames);
   for (const char* name : {"calib.txt", "camchain.yaml"})
     if (std::filesystem::is_regular_file(dir / name)) return (dir / name).string();
-  throw InputError(options.frames, "no camera calibration: the frame folder has no calib.txt or camchain.yaml; "
-                                   "pass --calib FILE");
+  throw InputError(options.frames,
+                   "no camera calibration: the frame folder has no calib.txt or camchain.yaml; "
+                   "pass --calib FILE");
 }
 
 void drain(backend::Estimator& estimator, RunFolderWriter& writer) {
@@ -54,8 +55,8 @@ RunSummary runFrameFolder(const FramesRunOptions& options) {
   const CameraModel camera = readCalibration(calib, summary.width, summary.height);
   summary.calibration = calib;
   if (camera.width() != summary.width || camera.height() != summary.height)
-    throw InputError(calib, fmt::format("calibration is for {}x{} pixels but the frames are {}x{}", camera.width(),
-                                        camera.height(), summary.width, summary.height));
+    throw InputError(calib, fmt::format("calibration is for {}x{} pixels but the frames are {}x{}",
+                                        camera.width(), camera.height(), summary.width, summary.height));
   summary.config = config;
 
   RunFolderWriter writer(options.out);

@@ -55,7 +55,8 @@ Scene makeGratingScene(const Motion& motion, const CameraModel& camera, uint64_t
     scene.planes.push_back(panel);
   }
   scene.description = fmt::format(
-      "grating: a {:.1f} x {:.1f} m wall at {} m, {}, and {} landmark panels ({} m, shapes) at {} m every {} m",
+      "grating: a {:.1f} x {:.1f} m wall at {} m, {}, and {} landmark panels ({} m, shapes) at {} m every {} "
+      "m",
       2 * wall.half_width, 2 * wall.half_height, geometry.wall_distance_m, wall.texture->description(), k,
       geometry.panel_size_m, geometry.panel_distance_m, geometry.panel_spacing_m);
   return scene;

@@ -40,8 +40,8 @@ TEST(RunFrames, AFolderWithoutImagesTxtIsNamed) {
 
 TEST(RunFrames, DatasetAndFramesTogetherOrNeitherAreRefused) {
   const TempDir dir;
-  auto r = runAsynevo("run --dataset " + dataPath("ecd/shapes_rotation") + " --frames " + dir.path().string() +
-                      " --out " + dir.file("out"));
+  auto r = runAsynevo("run --dataset " + dataPath("ecd/shapes_rotation") + " --frames " +
+                      dir.path().string() + " --out " + dir.file("out"));
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("exactly one of --dataset"), std::string::npos) << r.output;
   r = runAsynevo("run --out " + dir.file("out"));
@@ -54,8 +54,8 @@ TEST(RunFrames, AnUnreadableFrameIsNamed) {
   const std::string frames = dir.file("frames");
   // Two frames (0.6 s at 2 Hz), then the second replaced by a text file. A mis-sized frame is named
   // the same way (tests/frames/frame_folder_test.cpp).
-  const auto sim = runAsynevo("simulate --scene grating --motion speed-ramp --duration 0.6 --frame-rate 2 --out " +
-                              frames);
+  const auto sim = runAsynevo(
+      "simulate --scene grating --motion speed-ramp --duration 0.6 --frame-rate 2 --out " + frames);
   ASSERT_EQ(sim.exit_code, 0) << sim.output;
   std::filesystem::copy_file(dataPath("ecd/shapes_rotation/calib.txt"), frames + "/images/frame_00000001.png",
                              std::filesystem::copy_options::overwrite_existing);
@@ -88,7 +88,8 @@ TEST(RunFrames, WalkingPastTheGratingIsTrackedAndDeterministic) {
   // One thread, no timing: a second run writes the same trajectory.
   const auto again = runAsynevo("run --frames " + seq + " --out " + dir.file("again"));
   ASSERT_EQ(again.exit_code, 0) << again.output;
-  EXPECT_EQ(readFile(out + "/stamped_traj_estimate.txt"), readFile(dir.file("again") + "/stamped_traj_estimate.txt"));
+  EXPECT_EQ(readFile(out + "/stamped_traj_estimate.txt"),
+            readFile(dir.file("again") + "/stamped_traj_estimate.txt"));
 }
 
 }  // namespace

@@ -49,7 +49,8 @@ TEST(FrameFolder, ReadsTimesAndPaths) {
 TEST(FrameFolder, BadFoldersNameTheFile) {
   const TempDir dir;
   // No images.txt.
-  EXPECT_NE(inputError([&] { readFrameList(dir.path().string()); }).find(dir.file("images.txt")), std::string::npos);
+  EXPECT_NE(inputError([&] { readFrameList(dir.path().string()); }).find(dir.file("images.txt")),
+            std::string::npos);
   // A listed image that does not exist: images.txt, its line and the image are named.
   std::ofstream(dir.file("images.txt")) << "0.0 images/missing.png\n";
   std::string message = inputError([&] { readFrameList(dir.path().string()); });
@@ -61,7 +62,8 @@ TEST(FrameFolder, BadFoldersNameTheFile) {
   std::ofstream(dir.file("images.txt")) << "0.1 images/a.png\nzero images/a.png\n";
   EXPECT_NE(inputError([&] { readFrameList(dir.path().string()); }).find("images.txt:2:"), std::string::npos);
   std::ofstream(dir.file("images.txt")) << "0.1 images/a.png\n0.05 images/a.png\n";
-  EXPECT_NE(inputError([&] { readFrameList(dir.path().string()); }).find("does not increase"), std::string::npos);
+  EXPECT_NE(inputError([&] { readFrameList(dir.path().string()); }).find("does not increase"),
+            std::string::npos);
   // An unreadable image and one of the wrong size name the image.
   std::ofstream(dir.file("images/broken.png")) << "not an image";
   message = inputError([&] { loadFrame({0, dir.file("images/broken.png")}); });

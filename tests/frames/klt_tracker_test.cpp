@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <vector>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 namespace asynevo::frames {
 namespace {
@@ -28,8 +28,8 @@ cv::Mat texture() {
 /// The 240x180 view of `image` whose top-left corner is at (40 + dx, 40 + dy) frame pixels (dx, dy
 /// multiples of 1/kSuper), area-averaged to 8 bits.
 cv::Mat view(const cv::Mat& image, double dx, double dy) {
-  const cv::Rect crop(static_cast<int>(kSuper * (40 + dx)), static_cast<int>(kSuper * (40 + dy)), kSuper * 240,
-                      kSuper * 180);
+  const cv::Rect crop(static_cast<int>(kSuper * (40 + dx)), static_cast<int>(kSuper * (40 + dy)),
+                      kSuper * 240, kSuper * 180);
   cv::Mat small, out;
   cv::resize(image(crop), small, cv::Size(240, 180), 0, 0, cv::INTER_AREA);
   small.convertTo(out, CV_8U);

@@ -26,8 +26,8 @@ TEST(GratingTexture, RepeatsWithItsPeriodAndHasQuarterDarkBlocks) {
     }
   }
   EXPECT_NEAR(static_cast<double>(dark) / samples, 0.25, 0.03);  // one half-by-half block per cell
-  EXPECT_NEAR(grating->sample(0.05, 0.05, 0.001), 0.3, 1e-3);     // inside a block
-  EXPECT_NEAR(grating->sample(0.20, 0.05, 0.001), 0.7, 1e-3);     // beside it
+  EXPECT_NEAR(grating->sample(0.05, 0.05, 0.001), 0.3, 1e-3);    // inside a block
+  EXPECT_NEAR(grating->sample(0.20, 0.05, 0.001), 0.7, 1e-3);    // beside it
 }
 
 TEST(GratingScene, WallAtThreeMetresAndLandmarkPanelsAlongTheFirstMetres) {

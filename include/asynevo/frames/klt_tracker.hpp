@@ -16,13 +16,13 @@
 namespace asynevo::frames {
 
 struct KltOptions {
-  int max_features = 150;          ///< features kept at once
-  double quality_level = 0.01;     ///< goodFeaturesToTrack: relative corner score threshold
-  double min_distance_px = 10.0;   ///< between features (new corners keep this from tracked ones)
-  int window_px = 21;              ///< Lucas–Kanade window side
-  int pyramid_levels = 3;          ///< pyramid levels above the image (OpenCV maxLevel)
-  double max_fb_error_px = 1.0;    ///< forward–backward disagreement above which a track ends
-  double border_px = 4.0;          ///< tracks closer than this to the image border end
+  int max_features = 150;         ///< features kept at once
+  double quality_level = 0.01;    ///< goodFeaturesToTrack: relative corner score threshold
+  double min_distance_px = 10.0;  ///< between features (new corners keep this from tracked ones)
+  int window_px = 21;             ///< Lucas–Kanade window side
+  int pyramid_levels = 3;         ///< pyramid levels above the image (OpenCV maxLevel)
+  double max_fb_error_px = 1.0;   ///< forward–backward disagreement above which a track ends
+  double border_px = 4.0;         ///< tracks closer than this to the image border end
   /// Start each Lucas–Kanade search at a constant-velocity prediction: the feature's displacement in
   /// the previous frame (a new feature: the median displacement of the others), instead of at its last
   /// position.

@@ -18,11 +18,11 @@
 namespace asynevo::sim {
 
 struct GratingGeometry {
-  double wall_distance_m = 3.0;      ///< Z of the wall along the start optical axis
-  double period_m = 0.29;            ///< texture period along x (and y)
-  double panel_distance_m = 2.4;     ///< Z of the landmark panels
-  double panel_size_m = 0.35;        ///< side of a landmark panel
-  double panel_spacing_m = 2.5;      ///< panels every this many metres along x
+  double wall_distance_m = 3.0;   ///< Z of the wall along the start optical axis
+  double period_m = 0.29;         ///< texture period along x (and y)
+  double panel_distance_m = 2.4;  ///< Z of the landmark panels
+  double panel_size_m = 0.35;     ///< side of a landmark panel
+  double panel_spacing_m = 2.5;   ///< panels every this many metres along x
   /// Panels only over the first this many metres of the path (the walking stretch of speed-ramp is
   /// 2.8 m): further on the camera sees the grating alone, a purely repeated texture.
   double panel_stretch_m = 4.0;

@@ -13,10 +13,10 @@
 namespace asynevo::sim {
 
 struct SpeedRamp {
-  double slow_mps = 1.4;     ///< walking speed
-  double fast_mps = 9.0;     ///< the paper's top speed
-  double ramp_start_s = 2.0; ///< end of the walking phase
-  double ramp_s = 1.5;       ///< duration of the acceleration
+  double slow_mps = 1.4;      ///< walking speed
+  double fast_mps = 9.0;      ///< the paper's top speed
+  double ramp_start_s = 2.0;  ///< end of the walking phase
+  double ramp_s = 1.5;        ///< duration of the acceleration
 
   double rampEndS() const { return ramp_start_s + ramp_s; }
   /// Speed at t (m/s).
