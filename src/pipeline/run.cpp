@@ -29,6 +29,13 @@ std::optional<BackendKind> parseBackendKind(const std::string& name) {
   return std::nullopt;
 }
 
+std::unique_ptr<backend::Estimator> makeEstimator(BackendKind kind, const backend::EstimatorOptions& options) {
+  if (kind == BackendKind::kWindow) return std::make_unique<backend::SlidingWindowEstimator>(options);
+  backend::IncrementalOptions incremental;  // the full-history smoother baselines (docs/backend.md)
+  incremental.frozen = kind == BackendKind::kIncrementalFrozen;
+  return std::make_unique<backend::IncrementalEstimator>(options, incremental);
+}
+
 double peakMemoryMb() {
   rusage usage{};
   if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
@@ -128,14 +135,7 @@ RunSummary runDataset(const RunOptions& options,
   // Pixel thresholds of the backend are in the frontend's (binned) pixels, like its measurements' noise.
   estimator_options.focal_px = 0.5 * (camera.fx() + camera.fy()) / fe.binning();
   estimator_options.real_time = options.real_time;
-  std::unique_ptr<backend::Estimator> estimator_ptr;
-  if (options.backend != BackendKind::kWindow) {  // the full-history smoother baselines (docs/backend.md)
-    backend::IncrementalOptions incremental;
-    incremental.frozen = options.backend == BackendKind::kIncrementalFrozen;
-    estimator_ptr = std::make_unique<backend::IncrementalEstimator>(estimator_options, incremental);
-  } else {
-    estimator_ptr = std::make_unique<backend::SlidingWindowEstimator>(estimator_options);
-  }
+  std::unique_ptr<backend::Estimator> estimator_ptr = makeEstimator(options.backend, estimator_options);
   backend::Estimator& estimator = *estimator_ptr;
   summary.backend_name = estimator.name();
 

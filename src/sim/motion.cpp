@@ -10,6 +10,7 @@
 #include "asynevo/core/time.hpp"
 #include "asynevo/io/trajectory_io.hpp"
 #include "asynevo/lie/so3.hpp"
+#include "asynevo/sim/speed_ramp.hpp"
 
 namespace asynevo::sim {
 
@@ -53,7 +54,7 @@ StampedPose AnalyticMotion::pose(int64_t t_ns) const {
 }
 
 std::vector<std::string> motionPresetNames() {
-  return {"static", "rotation", "rotation-dominated", "translation", "6dof", "fast-translation", "slow-start"};
+  return {"static", "rotation", "rotation-dominated", "translation", "6dof", "fast-translation", "slow-start", "speed-ramp"};
 }
 
 bool isMotionPreset(const std::string& name) {
@@ -129,6 +130,15 @@ std::pair<AnalyticMotion::Function, std::string> presetFunction(const std::strin
               q.setIdentity();
             },
             "preset fast-translation"};
+  }
+  if (name == "speed-ramp") {
+    // Along x (parallel to a wall in front): 1.4 m/s for 2 s, a 1.5 s smootherstep to 9 m/s, then 9 m/s
+    // (sim/speed_ramp.hpp; the repeated-texture experiment, docs/results/repeated_texture.md).
+    return {[](double t, V& p, Q& q) {
+              p = V(SpeedRamp{}.distance(t), 0.0, 0.0);
+              q.setIdentity();
+            },
+            "preset speed-ramp (along x: 1.4 m/s for 2 s, 1.5 s ramp to 9 m/s, then 9 m/s)"};
   }
   if (name == "slow-start") {
     // Nearly still for 1.5 s (a 0.2 mm / 0.1 mrad drift, far below a pixel), then a 1 s ramp into 6dof.

@@ -12,6 +12,7 @@
 
 #include "asynevo/core/error.hpp"
 #include "asynevo/lie/so3.hpp"
+#include "asynevo/sim/grating_scene.hpp"
 
 namespace asynevo::sim {
 
@@ -43,7 +44,7 @@ std::vector<Eigen::Vector3d> borderRays(const CameraModel& camera) {
 }  // namespace
 
 std::vector<std::string> sceneNames() {
-  return {"shapes", "checkerboard", "stripes", "blobs", "poster", "boxes", "room", "photo", "photo-room", "sparse"};
+  return {"shapes", "checkerboard", "stripes", "blobs", "poster", "boxes", "room", "photo", "photo-room", "sparse", "grating"};
 }
 
 std::string photoDirectory() {
@@ -204,6 +205,7 @@ Scene makeBuiltinScene(const std::string& name, const Motion& motion, const Came
         2 * wall.half_width, 2 * wall.half_height);
     return scene;
   }
+  if (name == "grating") return makeGratingScene(motion, camera, seed);  // sim/grating_scene.hpp
   if (name == "room" || name == "photo-room") {
     // Sized from the motion: its bounding box plus 1.5 m on every side (DESIGN.md §5), at least 4 m wide.
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);

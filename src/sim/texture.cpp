@@ -287,6 +287,29 @@ std::shared_ptr<const Texture> makeStripesTexture(const TextureOptions& options,
                                    fmt::format("stripes (period {:.4g} m)", period));
 }
 
+std::shared_ptr<const Texture> makeGratingTexture(const TextureOptions& options, double period_m, float dark,
+                                                  float bright) {
+  if (!isPowerOfTwo(options.texels)) throw std::invalid_argument("texture size must be a power of two");
+  if (!(period_m > 0)) throw std::invalid_argument("grating period must be positive");
+  const int n = options.texels;
+  const int periods = std::max(1, static_cast<int>(std::lround(options.tile_m / period_m)));
+  const double period = options.tile_m / periods;
+  const int big = n * kSupersample;
+  cv::Mat canvas(big, big, CV_32F);
+  for (int y = 0; y < big; ++y) {
+    const bool dark_row = std::fmod((y + 0.5) * options.tile_m / big, period) < period / 2;
+    for (int x = 0; x < big; ++x) {
+      const bool dark_col = std::fmod((x + 0.5) * options.tile_m / big, period) < period / 2;
+      canvas.at<float>(y, x) = dark_row && dark_col ? dark : bright;
+    }
+  }
+  cv::Mat small;
+  cv::resize(canvas, small, cv::Size(n, n), 0, 0, cv::INTER_AREA);
+  return std::make_shared<Texture>(matToVector(small), n, n, options.tile_m / n, true,
+                                   fmt::format("grating (period {:.4g} m, blocks {:.2g} on {:.2g})", period,
+                                               dark, bright));
+}
+
 std::shared_ptr<const Texture> makeBlobsTexture(const TextureOptions& options) {
   if (!isPowerOfTwo(options.texels)) throw std::invalid_argument("texture size must be a power of two");
   const int n = options.texels;

@@ -172,7 +172,7 @@ TEST(SimulateToFolder, UnknownSceneOrMotionIsAnInputError) {
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),
               "castle: no such scene file (built-in scenes: shapes, checkerboard, stripes, blobs, poster, "
-              "boxes, room, photo, photo-room, sparse)");
+              "boxes, room, photo, photo-room, sparse, grating)");
   }
   spec.scene = "shapes";
   spec.motion = "loop";
@@ -182,7 +182,7 @@ TEST(SimulateToFolder, UnknownSceneOrMotionIsAnInputError) {
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),
               "loop: no such motion file (presets: static, rotation, rotation-dominated, translation, 6dof, fast-translation, "
-              "slow-start)");
+              "slow-start, speed-ramp)");
   }
 }
 

@@ -6,11 +6,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "asynevo/backend/estimator.hpp"
+#include "asynevo/backend/sliding_window_estimator.hpp"
 #include "asynevo/core/config/config.hpp"
 #include "asynevo/core/error.hpp"
 #include "asynevo/frontend/frontend.hpp"
@@ -25,6 +27,9 @@ namespace asynevo::pipeline {
 enum class BackendKind { kWindow, kIncremental, kIncrementalFrozen };
 /// "window", "incremental" or "incremental-frozen"; nullopt otherwise.
 std::optional<BackendKind> parseBackendKind(const std::string& name);
+
+/// The estimator of `kind` (AsynEVO's sliding window or an incremental baseline).
+std::unique_ptr<backend::Estimator> makeEstimator(BackendKind kind, const backend::EstimatorOptions& options);
 
 struct RunOptions {
   std::string dataset;  ///< ECD-style folder or event file

@@ -1,10 +1,10 @@
 #pragma once
 // Camera motion for the simulator: T_w_c(t), camera-to-world, defined for t in [beginNs(), endNs()].
 //
-//   * Built-in presets (analytic, smooth): static, rotation, translation, 6dof, fast-translation,
+//   * Built-in presets (analytic, smooth): static, rotation, translation, 6dof, fast-translation, speed-ramp,
 //     slow-start. The world frame is fixed (camera looking along +z, x right, y down at the identity);
 //     the first pose is the preset's pose at phase 0, also with a start offset (the identity for static
-//     and fast-translation; rotation, translation, 6dof and slow-start start a little rotated/shifted).
+//     fast-translation and speed-ramp; rotation, translation, 6dof and slow-start start a little rotated/shifted).
 //   * A ground-truth file (TUM or ECD groundtruth.txt): resampled, low-pass filtered (mocap poses are
 //     noisy at the millisecond scale, DESIGN.md §5) and represented by a uniform cumulative cubic
 //     B-spline on R³ and SO(3), so pose, velocity and acceleration are continuous.

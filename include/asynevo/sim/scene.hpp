@@ -6,7 +6,8 @@
 // shapes, one plane), photo (one plane, a real photograph), sparse (one plane, few well separated
 // polygons), boxes (textured cubes at 1–2 m before a background wall), room (the camera inside a
 // textured box with at least 1.5 m clearance around the motion's bounding box) and photo-room (the
-// same box with photographs on its walls). A scene file
+// same box with photographs on its walls), grating (a wall of blocks repeating every 0.29 m,
+// sim/grating_scene.hpp). A scene file
 // (YAML) lists planes explicitly: docs/simulator.md §Scene files.
 
 #include <Eigen/Core>

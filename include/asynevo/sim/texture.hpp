@@ -70,6 +70,11 @@ std::shared_ptr<const Texture> makeSparseShapesTexture(const TextureOptions& opt
 std::shared_ptr<const Texture> makeCheckerboardTexture(const TextureOptions& options, double square_m = 0.1);
 /// Vertical square-wave stripes (varying along u) with period `period_m` (rounded to fit the tile).
 std::shared_ptr<const Texture> makeStripesTexture(const TextureOptions& options, double period_m = 0.1);
+/// A grating of dark rectangles repeated with period `period_m` along u and v (rounded so a whole number
+/// of periods fits in the tile): in each period × period cell, one `dark` block of half the period in
+/// both directions at the cell's corner, on `bright`. Periodic along u like stripes, but with corners.
+std::shared_ptr<const Texture> makeGratingTexture(const TextureOptions& options, double period_m,
+                                                  float dark = 0.3f, float bright = 0.7f);
 /// Multi-scale smooth noise ("blobs"): octaves of blurred white noise with amplitude ∝ scale, a
 /// natural-image-like 1/f spectrum, stretched to [0.05, 0.95].
 std::shared_ptr<const Texture> makeBlobsTexture(const TextureOptions& options);
