@@ -3,11 +3,13 @@
 estimate, and the sequence's score (docs/evaluation_matrix.md, "What is measured").
 
   matrix_run.py --asynevo BIN --dataset SEQ_DIR --config FILE --run-dir DIR --score FILE
-                [--sequence NAME] [--timeout S] [--replay-of RECORDED_RUN_DIR --replay-bin BIN]
+                [--sequence NAME] [--timeout S] [--replay-of RECORDED_RUN_DIR --replay-bin BIN
+                [--replay-skip-ms MS]]
 
 With --replay-of, the frontend does not run: the backend replays the tracks that run folder recorded
 (bench_replay_tracks, exact: the same tracks and order as in the run), with the backend section of
---config. A backend setting is judged that way in seconds per sequence.
+--config. A backend setting is judged that way in seconds per sequence. --replay-skip-ms drops the first
+MS milliseconds of the recorded tracks (the start then comes from later windows).
 
 Writes FILE (JSON) in every case: status "ok", or "failed" / "timeout" with the message that says
 why. A failed run is a result, not an error of this script, which exits 0 unless it could not write
@@ -212,6 +214,8 @@ def run_replay(args):
         shutil.copyfile(gt, os.path.join(args.run_dir, "stamped_groundtruth.txt"))
     est = os.path.join(args.run_dir, "stamped_traj_estimate.txt")
     cmd = [args.replay_bin, args.run_dir, args.dataset, est]
+    if args.replay_skip_ms:
+        cmd += ["--skip-ms", "%g" % args.replay_skip_ms]
     code, wall, out = run_logged(cmd, os.path.join(args.run_dir, "replay.log"), args.timeout)
     rec = dict(command=cmd, exit_code=code, process_wall_s=round(wall, 2), replay_of=recorded)
     if os.path.isfile(est + ".velocities.txt"):
@@ -265,6 +269,8 @@ def main():
     p.add_argument("--timeout", type=float, default=0, help="seconds; 0 = none")
     p.add_argument("--replay-of", help="replay the tracks this run folder recorded (backend section of --config)")
     p.add_argument("--replay-bin", help="bench_replay_tracks (with --replay-of)")
+    p.add_argument("--replay-skip-ms", type=float, default=0.0,
+                   help="with --replay-of: skip the tracks' first MS milliseconds (start offsets)")
     args = p.parse_args()
     if args.replay_of and not args.replay_bin:
         p.error("--replay-of needs --replay-bin")

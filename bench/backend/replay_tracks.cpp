@@ -4,7 +4,7 @@
 // for docs/backend.md: it separates the error the frontend's tracks bring from the error of the backend.
 //
 //   bench_replay_tracks RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental]
-//                       [--seed N] [--dump-errors FILE]
+//                       [--seed N] [--dump-errors FILE] [--skip-ms MS]
 //
 // Writes OUT_TRAJ (TUM, as the run's stamped_traj_estimate.txt), OUT_TRAJ.velocities.txt (as its
 // velocities.txt), OUT_TRAJ.segments.txt (as its segments.txt) and OUT_TRAJ.updates.csv (the update
@@ -13,6 +13,10 @@
 // --oracle: positions of features on a fixed scene point replaced by their projection plus Gaussian
 // noise; features born on a depth discontinuity (no fixed 3D point) keep their measured positions.
 // --drop-edges: features born on a depth discontinuity, or whose point leaves the view, are skipped.
+// --skip-ms: measurements in the first MS milliseconds after the first one are skipped, as if the
+// recording had begun that much later (for the frontend's tracks as they were): the start comes from other
+// windows of the same tracks. How much a sequence's result depends on when its start happens
+// (docs/evaluation_matrix.md, "Start offsets").
 //
 // RUN_DIR holds tracks.txt, backend_feed.txt and config.yaml (from 'asynevo run'), DATASET_DIR the
 // sequence (calib.txt or a Kalibr camchain; for --oracle a folder written by 'asynevo simulate').
@@ -59,17 +63,18 @@ struct Args {
   bool incremental = false;
   unsigned seed = 1;
   std::string dump_errors;  ///< --dump-errors FILE: measured vs exact pixel of every fixed-point measurement
+  double skip_ms = 0;       ///< --skip-ms: measurements this long after the first are not fed
 };
 
 Args parse(int argc, char** argv) {
   if (argc < 4) {
     std::fprintf(stderr,
                  "usage: %s RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental] "
-                 "[--seed N] [--dump-errors FILE]\n",
+                 "[--seed N] [--dump-errors FILE] [--skip-ms MS]\n",
                  argv[0]);
     std::exit(2);
   }
-  Args a{argv[1], argv[2], argv[3], std::nullopt, false, false, 1, {}};
+  Args a{argv[1], argv[2], argv[3], std::nullopt, false, false, 1, {}, 0.0};
   for (int i = 4; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "--oracle" && i + 1 < argc) {
@@ -80,6 +85,12 @@ Args parse(int argc, char** argv) {
       a.incremental = true;
     } else if (flag == "--dump-errors" && i + 1 < argc) {
       a.dump_errors = argv[++i];
+    } else if (flag == "--skip-ms" && i + 1 < argc) {
+      a.skip_ms = std::stod(argv[++i]);
+      if (!(a.skip_ms >= 0)) {
+        std::fprintf(stderr, "--skip-ms %s: not a duration >= 0\n", argv[i]);
+        std::exit(2);
+      }
     } else if (flag == "--seed" && i + 1 < argc) {
       a.seed = static_cast<unsigned>(std::stoul(argv[++i]));
     } else {
@@ -201,6 +212,7 @@ int main(int argc, char** argv) try {
   std::size_t next_feed = 0;
   int64_t marker = 0;
   uint64_t lines = 0, fed = 0, skipped = 0;
+  std::optional<int64_t> skip_until_ns;  // --skip-ms: from the first measurement's time
   std::string line;
   while (std::getline(in, line)) {
     if (line.empty() || line[0] == '#') continue;
@@ -219,6 +231,11 @@ int main(int argc, char** argv) try {
     const auto t_ns = parseSecondsToNs(t_text);
     if (!t_ns) throw std::runtime_error(fmt::format("{}/tracks.txt: bad time '{}'", args.run, t_text));
     m.t_ns = *t_ns;
+    if (!skip_until_ns) skip_until_ns = m.t_ns + std::llround(args.skip_ms * 1e6);
+    if (m.t_ns < *skip_until_ns) {
+      ++skipped;
+      continue;
+    }
     Eigen::Vector2d pixel(x, y);
     if (truth) {
       auto anchor = anchors.find(id);

@@ -1,7 +1,8 @@
 #!/bin/sh
 # bench_replay_tracks on a run folder (tracks.txt + backend_feed.txt) must reproduce the run's backend
 # exactly: the same final knots and velocities, byte for byte (docs/backend.md, "Where the error comes
-# from"). A run that never initialized would compare two empty trajectories: checked first.
+# from"). A run that never initialized would compare two empty trajectories: checked first. Then
+# --skip-ms: the first 400 ms of tracks skipped, the replay starts later and skips measurements.
 #   replay_reproduces_run.sh ASYNEVO BENCH_REPLAY_TRACKS CONFIG WORK_DIR
 set -eu
 asynevo=$1; replay=$2; config=$3; work=$4
@@ -26,3 +27,17 @@ grep -v '^#' "$work/run/velocities.txt" > "$work/run_vel.txt"
 grep -v '^#' "$work/replay.txt.velocities.txt" > "$work/replay_vel.txt"
 cmp "$work/run_vel.txt" "$work/replay_vel.txt"
 echo "replay reproduces the run: $knots knots identical"
+"$replay" "$work/run" "$work/sequence" "$work/skip.txt" --skip-ms 400 > "$work/skip.log"
+first_run=$(head -n 1 "$work/run_traj.txt" | cut -d' ' -f1)
+first_measurement=$(grep -v '^#' "$work/run/tracks.txt" | head -n 1 | cut -d' ' -f2)
+first_skip=$(grep -v '^#' "$work/skip.txt" | head -n 1 | cut -d' ' -f1)
+if ! awk -v m="$first_measurement" -v b="$first_skip" 'BEGIN { exit !(b >= m + 0.4) }'; then
+  echo "FAIL: with --skip-ms 400 the estimate begins at $first_skip s, less than 0.4 s after the first" \
+       "measurement ($first_measurement s)" >&2
+  exit 1
+fi
+if ! grep -Eq "fed [0-9]+ measurements \([1-9][0-9]* skipped\)" "$work/skip.log"; then
+  echo "FAIL: --skip-ms 400 skipped no measurement" >&2
+  exit 1
+fi
+echo "--skip-ms 400: the estimate begins at $first_skip s instead of $first_run s"

@@ -203,6 +203,9 @@ def smoke(asynevo, work):
     check(not os.path.exists(os.path.join(work, "bad", "sequences")), "nothing ran for the bad matrix")
     r = subprocess.run(base + ["-n", "--config", "asynevo=" + asynevo, "halff=validation"], capture_output=True, text=True)
     check(r.returncode != 0 and "halff" in (r.stdout + r.stderr), "an unknown configuration key stops the workflow, named")
+    r = subprocess.run(base + ["-n", "--config", "asynevo=" + asynevo, "replay_skip_ms=50"], capture_output=True, text=True)
+    check(r.returncode != 0 and "replay_skip_ms needs replay_of" in (r.stdout + r.stderr),
+          "replay_skip_ms without replay_of stops the workflow")
     # one 2 s sequence (the validation half of the smoke matrix) through the whole workflow
     path = os.path.join(work, "smoke.yaml")
     with open(path, "w") as f:
