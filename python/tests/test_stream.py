@@ -1,0 +1,52 @@
+"""asynevo.Stream: batches pushed in, poses polled; the same trajectory as run() on the same events."""
+import unittest
+
+import numpy as np
+
+import asynevo
+from common import SIM
+
+
+class StreamTest(unittest.TestCase):
+    def test_batches_give_the_offline_trajectory(self):
+        if not (SIM / "events.txt").exists():
+            self.skipTest(f"{SIM} is missing: run the ctest fixture python.simulate_fixture")
+        ev = asynevo.read_events(SIM)
+        reference = asynevo.run(ev, calib=SIM / "calib.txt")
+        s = asynevo.Stream(SIM / "calib.txt", sensor=(ev["width"], ev["height"]))
+        self.assertEqual((s.width, s.height), (240, 180))
+        n = len(ev["t"])
+        rng = np.random.default_rng(7)
+        cuts = np.sort(rng.choice(n, size=200, replace=False))  # uneven batches, some tiny
+        parts, latest_seen = [], 0
+        for a, b in zip(np.r_[0, cuts], np.r_[cuts, n]):
+            s.push(ev["t"][a:b], ev["x"][a:b], ev["y"][a:b], ev["p"][a:b])
+            parts.append(s.poll()["trajectory"])
+            latest = s.latest()
+            if latest is not None:
+                latest_seen += 1
+                self.assertEqual(latest.shape, (8,))
+                self.assertTrue(np.all(np.isfinite(latest)))
+        self.assertGreater(latest_seen, 50)
+        live = np.concatenate(parts)
+        self.assertGreater(len(live), 10)  # poses came out while streaming, not only at the end
+        s.finish()
+        traj = np.concatenate([live, s.poll()["trajectory"]])
+        np.testing.assert_array_equal(traj, reference["trajectory"])
+        self.assertEqual(s.stats["events"], n)
+        self.assertTrue(s.stats["initialized"])
+        self.assertEqual(s.landmarks()["landmarks"].shape, reference["landmarks"].shape)
+        with self.assertRaises(ValueError):
+            s.push(ev["t"][-1:], ev["x"][-1:], ev["y"][-1:], ev["p"][-1:])
+
+    def test_an_earlier_batch_is_rejected_whole(self):
+        s = asynevo.Stream({"fx": 200, "fy": 200, "cx": 120, "cy": 90, "width": 240, "height": 180})
+        s.push(np.array([1000, 2000], dtype=np.int64), [1, 2], [3, 4], [1, 0])
+        with self.assertRaises(ValueError) as cm:
+            s.push(np.array([1500], dtype=np.int64), [1], [1], [1])
+        self.assertIn("t[0] = 1500", str(cm.exception))
+        self.assertEqual(s.stats["events"], 2)
+
+
+if __name__ == "__main__":
+    unittest.main()
