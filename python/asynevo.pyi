@@ -31,6 +31,10 @@ def read_events(
     """Events of a file or dataset folder: {t: int64 ns, x, y: uint16, p: int8 (+1/-1), width, height,
     format, path, size_origin, stats}."""
 
+def check_events(t: npt.ArrayLike, x: npt.ArrayLike, y: npt.ArrayLike, p: npt.ArrayLike, width: int,
+                 height: int) -> None:
+    """Raises ValueError (naming the array and index) for arrays run() and Stream.push() would reject."""
+
 def run(
     source: Union[PathLike, Dict[str, Any]],
     calib: Optional[Calibration] = None,

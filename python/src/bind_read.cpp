@@ -1,5 +1,6 @@
-// asynevo.read_events: any supported event file or dataset folder into numpy arrays, through the same
-// readers and sensor-size rules as 'asynevo info' and 'asynevo run' (io/dataset_reader.hpp).
+// Events in and out: asynevo.read_events (any supported event file or dataset folder into numpy arrays,
+// through the same readers and sensor-size rules as 'asynevo info' and 'asynevo run',
+// io/dataset_reader.hpp) and asynevo.check_events (the checks run() and Stream.push() make).
 
 #include <fmt/format.h>
 #include <pybind11/numpy.h>
@@ -84,9 +85,21 @@ py::dict readEvents(const py::object& path_obj, const std::string& format, const
   return out;
 }
 
+void checkEvents(const py::object& t, const py::object& x, const py::object& y, const py::object& p, int width,
+                 int height) {
+  eventsFromArrays(t, x, y, p, width, height);
+}
+
 }  // namespace
 
 void bindRead(py::module_& m) {
+  m.def("check_events", &checkEvents, py::arg("t"), py::arg("x"), py::arg("y"), py::arg("p"), py::arg("width"),
+        py::arg("height"),
+        R"doc(Checks event arrays as run() and Stream.push() do, without processing them.
+
+Raises ValueError naming the array and the index: arrays of different lengths, t not integer (int64 ns)
+or going backwards, x or y not integers or outside width x height, p not bool or 1 / 0 / -1, an array
+that is not one-dimensional.)doc");
   m.def("read_events", &readEvents, py::arg("path"), py::arg("format") = "auto", py::arg("sensor") = py::none(),
         py::arg("topic") = "", py::arg("max_events") = py::none(),
         R"doc(Reads events from a file or a dataset folder into numpy arrays.
