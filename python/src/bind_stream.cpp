@@ -44,10 +44,10 @@ class Stream {
         eventsFromArrays(t, x, y, p, feed_->config().sensor.width, feed_->config().sensor.height);
     py::gil_scoped_release release;
     std::lock_guard<std::mutex> lock(mutex_);
+    if (feed_->finished()) throw py::value_error("the stream is finished: push() after finish()");
     if (feed_->events() > 0 && !events.empty() && events.front().t_ns < feed_->lastTime())
       throw py::value_error(fmt::format("t[0] = {} is earlier than the previous batch's last event ({})",
                                         events.front().t_ns, feed_->lastTime()));
-    if (feed_->finished()) throw py::value_error("the stream is finished: push() after finish()");
     feed_->push(events.data(), events.size());
   }
 

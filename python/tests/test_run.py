@@ -6,14 +6,14 @@ import unittest
 import numpy as np
 
 import asynevo
-from common import SIM
+from common import CLI_RUN, SIM, assert_same_as_cli, assert_same_landmarks_as_cli
 
 
 class Run(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        if not (SIM / "events.txt").exists():
-            raise unittest.SkipTest(f"{SIM} is missing: run the ctest fixture python.simulate_fixture")
+        if not (CLI_RUN / "stamped_traj_estimate.txt").exists():
+            raise unittest.SkipTest(f"{CLI_RUN} is missing: run the ctest fixtures (ctest -L python)")
         cls.result = asynevo.run(SIM)
 
     def test_trajectory_is_finite_and_accurate(self):
@@ -40,6 +40,10 @@ class Run(unittest.TestCase):
         self.assertLess(e["ate_perc_of_path"], 5.0)
         self.assertAlmostEqual(e["ate_rmse_m"], e["ate"]["trans_m"]["rmse"])
         self.assertEqual(e["aligned_est_positions"].shape, e["gt_positions"].shape)
+
+    def test_the_same_trajectory_as_the_command_line(self):
+        assert_same_as_cli(self, self.result["trajectory"], self.result["knot_t_ns"])
+        assert_same_landmarks_as_cli(self, self.result)
 
     def test_arrays_give_the_same_trajectory_as_the_dataset(self):
         ev = asynevo.read_events(SIM)
