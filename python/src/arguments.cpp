@@ -36,7 +36,8 @@ Config configArg(const py::handle& config) {
 namespace {
 
 double number(const py::dict& d, const char* key) {
-  if (!d.contains(key)) throw py::value_error(fmt::format("calib dict has no '{}' (it needs fx, fy, cx, cy)", key));
+  if (!d.contains(key))
+    throw py::value_error(fmt::format("calib dict has no '{}' (it needs fx, fy, cx, cy)", key));
   return py::float_(d[key]).cast<double>();
 }
 
@@ -50,19 +51,24 @@ DistortionModel distortionModel(const std::string& name) {
 }  // namespace
 
 CameraModel calibrationArg(const py::handle& calib, int width, int height) {
-  if (calib.is_none()) throw py::value_error("a calibration is needed: calib=FILE or a dict {fx, fy, cx, cy}");
-  if (isPath(calib)) return readCalibration(pathArg(calib, "calib"), width > 0 ? width : 240, height > 0 ? height : 180);
-  if (!py::isinstance<py::dict>(calib)) throw py::value_error("calib must be a file path or a dict {fx, fy, cx, cy}");
+  if (calib.is_none())
+    throw py::value_error("a calibration is needed: calib=FILE or a dict {fx, fy, cx, cy}");
+  if (isPath(calib))
+    return readCalibration(pathArg(calib, "calib"), width > 0 ? width : 240, height > 0 ? height : 180);
+  if (!py::isinstance<py::dict>(calib))
+    throw py::value_error("calib must be a file path or a dict {fx, fy, cx, cy}");
   const auto d = py::reinterpret_borrow<py::dict>(calib);
   const int w = d.contains("width") ? d["width"].cast<int>() : width;
   const int h = d.contains("height") ? d["height"].cast<int>() : height;
-  if (w <= 0 || h <= 0) throw py::value_error("calib dict: the sensor size is unknown; give its width and height");
+  if (w <= 0 || h <= 0)
+    throw py::value_error("calib dict: the sensor size is unknown; give its width and height");
   const DistortionModel model =
       distortionModel(d.contains("distortion_model") ? d["distortion_model"].cast<std::string>() : "none");
   const std::vector<double> coefficients =
       d.contains("distortion") ? d["distortion"].cast<std::vector<double>>() : std::vector<double>{};
   try {
-    return CameraModel(w, h, number(d, "fx"), number(d, "fy"), number(d, "cx"), number(d, "cy"), model, coefficients);
+    return CameraModel(w, h, number(d, "fx"), number(d, "fy"), number(d, "cx"), number(d, "cy"), model,
+                       coefficients);
   } catch (const std::invalid_argument& e) {
     throw py::value_error(std::string("calib dict: ") + e.what());
   }

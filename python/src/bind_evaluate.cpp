@@ -31,7 +31,8 @@ StampedTrajectory trajectoryArg(const py::handle& obj, const char* what) {
 std::vector<StampedTwist> twistsFromArray(const py::handle& obj) {
   const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
   if (!a || a.ndim() != 2 || a.shape(1) != 7)
-    throw py::value_error("velocities must be an N×7 array (t [s], vx vy vz wx wy wz) or a velocities.txt path");
+    throw py::value_error(
+        "velocities must be an N×7 array (t [s], vx vy vz wx wy wz) or a velocities.txt path");
   const auto m = a.unchecked<2>();
   std::vector<StampedTwist> twists(static_cast<std::size_t>(a.shape(0)));
   for (py::ssize_t i = 0; i < a.shape(0); ++i) {
@@ -67,7 +68,8 @@ py::dict evaluate(const py::object& gt_obj, const py::object& est_obj, const std
     const StampedTrajectory est = trajectoryArg(est_obj, "est");
     std::optional<std::vector<StampedTwist>> twists;
     if (!velocities.is_none())
-      twists = isPath(velocities) ? readVelocities(pathArg(velocities, "velocities")) : twistsFromArray(velocities);
+      twists = isPath(velocities) ? readVelocities(pathArg(velocities, "velocities"))
+                                  : twistsFromArray(velocities);
     py::gil_scoped_release release;
     r = eval::evaluate(gt, est, options);
     if (twists) eval::addVelocityErrors(r, gt, *twists, options);

@@ -85,23 +85,23 @@ py::dict readEvents(const py::object& path_obj, const std::string& format, const
   return out;
 }
 
-void checkEvents(const py::object& t, const py::object& x, const py::object& y, const py::object& p, int width,
-                 int height) {
+void checkEvents(const py::object& t, const py::object& x, const py::object& y, const py::object& p,
+                 int width, int height) {
   eventsFromArrays(t, x, y, p, width, height);
 }
 
 }  // namespace
 
 void bindRead(py::module_& m) {
-  m.def("check_events", &checkEvents, py::arg("t"), py::arg("x"), py::arg("y"), py::arg("p"), py::arg("width"),
-        py::arg("height"),
+  m.def("check_events", &checkEvents, py::arg("t"), py::arg("x"), py::arg("y"), py::arg("p"),
+        py::arg("width"), py::arg("height"),
         R"doc(Checks event arrays as run() and Stream.push() do, without processing them.
 
 Raises ValueError naming the array and the index: arrays of different lengths, t not integer (int64 ns)
 or going backwards, x or y not integers or outside width x height, p not bool or 1 / 0 / -1, an array
 that is not one-dimensional.)doc");
-  m.def("read_events", &readEvents, py::arg("path"), py::arg("format") = "auto", py::arg("sensor") = py::none(),
-        py::arg("topic") = "", py::arg("max_events") = py::none(),
+  m.def("read_events", &readEvents, py::arg("path"), py::arg("format") = "auto",
+        py::arg("sensor") = py::none(), py::arg("topic") = "", py::arg("max_events") = py::none(),
         R"doc(Reads events from a file or a dataset folder into numpy arrays.
 
 Any format 'asynevo run' reads: ECD text, MVSEC / DSEC-style HDF5, .aevt, Prophesee RAW (EVT 3.0 /

@@ -62,12 +62,13 @@ int intItem(const py::handle& mapping, const char* key) {
 }
 
 /// Events given as a mapping with t, x, y, p (read_events' result, or hand-made with width and height).
-pipeline::RunSummary runArrays(const py::handle& source, const py::handle& calib, const py::handle& config_arg,
-                               const py::handle& sensor, const pipeline::RunOptions& options,
-                               CollectingOutput& collected) {
+pipeline::RunSummary runArrays(const py::handle& source, const py::handle& calib,
+                               const py::handle& config_arg, const py::handle& sensor,
+                               const pipeline::RunOptions& options, CollectingOutput& collected) {
   for (const char* key : {"t", "x", "y", "p"})
     if (!py::bool_(source.attr("__contains__")(key)))
-      throw py::value_error(fmt::format("events have no '{}': a dict with t, x, y, p (as read_events returns)", key));
+      throw py::value_error(
+          fmt::format("events have no '{}': a dict with t, x, y, p (as read_events returns)", key));
   int width = intItem(source, "width"), height = intItem(source, "height");
   if (width <= 0 || height <= 0) std::tie(width, height) = sensorArg(sensor);
   const CameraModel camera = calibrationArg(calib, width, height);
@@ -76,9 +77,10 @@ pipeline::RunSummary runArrays(const py::handle& source, const py::handle& calib
     height = camera.height();
   }
   if (camera.width() != width || camera.height() != height)
-    throw py::value_error(fmt::format("the calibration is for {}x{} pixels but the events are {}x{}", camera.width(),
-                                      camera.height(), width, height));
-  std::vector<Event> events = eventsFromArrays(source["t"], source["x"], source["y"], source["p"], width, height);
+    throw py::value_error(fmt::format("the calibration is for {}x{} pixels but the events are {}x{}",
+                                      camera.width(), camera.height(), width, height));
+  std::vector<Event> events =
+      eventsFromArrays(source["t"], source["x"], source["y"], source["p"], width, height);
   Config config = configArg(config_arg);
   config.sensor.width = width;
   config.sensor.height = height;
@@ -103,10 +105,13 @@ pipeline::RunSummary runArrays(const py::handle& source, const py::handle& calib
   return summary;
 }
 
-py::dict run(const py::object& source, const py::object& calib, const py::object& config, const std::string& format,
-             const py::object& sensor, const std::string& topic, const std::string& backend, const py::object& out) {
+py::dict run(const py::object& source, const py::object& calib, const py::object& config,
+             const std::string& format, const py::object& sensor, const std::string& topic,
+             const std::string& backend, const py::object& out) {
   const std::optional<pipeline::BackendKind> kind = pipeline::parseBackendKind(backend);
-  if (!kind) throw py::value_error(fmt::format("backend '{}' is not window, incremental or incremental-frozen", backend));
+  if (!kind)
+    throw py::value_error(
+        fmt::format("backend '{}' is not window, incremental or incremental-frozen", backend));
   RunFolder folder(out);
   pipeline::RunOptions options;
   options.backend = *kind;
@@ -140,7 +145,8 @@ py::dict run(const py::object& source, const py::object& calib, const py::object
   addLandmarks(collected.landmarks, result);
   result["groundtruth"] = py::none();
   if (summary.groundtruth_poses)
-    result["groundtruth"] = trajectoryArray(readTumTrajectory((fs::path(folder.path()) / "stamped_groundtruth.txt").string()));
+    result["groundtruth"] =
+        trajectoryArray(readTumTrajectory((fs::path(folder.path()) / "stamped_groundtruth.txt").string()));
   result["initialized"] = summary.initialized();
   result["message"] = summary.initialized() ? std::string() : pipeline::initializationFailureMessage(summary);
   result["stats"] = parseJson(pipeline::runStatsJson(summary, options));

@@ -27,15 +27,17 @@ namespace {
 
 class Stream {
  public:
-  Stream(const py::object& calib, const py::object& config, const py::object& sensor, const std::string& backend) {
+  Stream(const py::object& calib, const py::object& config, const py::object& sensor,
+         const std::string& backend) {
     const std::optional<pipeline::BackendKind> kind = pipeline::parseBackendKind(backend);
     if (!kind)
-      throw py::value_error(fmt::format("backend '{}' is not window, incremental or incremental-frozen", backend));
+      throw py::value_error(
+          fmt::format("backend '{}' is not window, incremental or incremental-frozen", backend));
     const auto [w, h] = sensorArg(sensor);
     const CameraModel camera = calibrationArg(calib, w, h);
     if (w > 0 && (camera.width() != w || camera.height() != h))
-      throw py::value_error(fmt::format("the calibration is for {}x{} pixels but sensor is {}x{}", camera.width(),
-                                        camera.height(), w, h));
+      throw py::value_error(fmt::format("the calibration is for {}x{} pixels but sensor is {}x{}",
+                                        camera.width(), camera.height(), w, h));
     feed_ = std::make_unique<pipeline::EventFeed>(configArg(config), camera, *kind);
   }
 
@@ -142,8 +144,8 @@ Example:
       new = s.poll()["trajectory"]      # N x 8: t [s], tx ty tz qx qy qz qw
   s.finish(); rest = s.poll()
 )doc")
-      .def(py::init<const py::object&, const py::object&, const py::object&, const std::string&>(), py::arg("calib"),
-           py::arg("config") = py::none(), py::kw_only(), py::arg("sensor") = py::none(),
+      .def(py::init<const py::object&, const py::object&, const py::object&, const std::string&>(),
+           py::arg("calib"), py::arg("config") = py::none(), py::kw_only(), py::arg("sensor") = py::none(),
            py::arg("backend") = "window",
            R"doc(Args:
   calib: calibration file (ECD calib.txt, sized by `sensor` or 240x180, or a Kalibr camchain YAML) or a
@@ -151,8 +153,9 @@ Example:
   config: None (defaults), a YAML file or a dict of sections, as for run().
   sensor: (width, height) or "WxH" of an ECD calib.txt (which has no size).
   backend: "window", "incremental" or "incremental-frozen".)doc")
-      .def("push", &Stream::push, py::arg("t"), py::arg("x"), py::arg("y"), py::arg("p"),
-           R"doc(Processes a batch of events: t int64 ns (non-decreasing, not earlier than the previous batch),
+      .def(
+          "push", &Stream::push, py::arg("t"), py::arg("x"), py::arg("y"), py::arg("p"),
+          R"doc(Processes a batch of events: t int64 ns (non-decreasing, not earlier than the previous batch),
 x and y integer pixels inside the sensor, p bool or integer (1 ON, 0 or -1 OFF). Raises ValueError naming
 the array and the index for bad input; nothing of a rejected batch is processed.)doc")
       .def("push_events", &Stream::pushEvents, py::arg("events"),
@@ -160,8 +163,9 @@ the array and the index for bad input; nothing of a rejected batch is processed.
       .def("poll", &Stream::poll,
            R"doc(The knots that became final since the last poll: dict with trajectory (N x 8: t [s], tx ty tz
 qx qy qz qw), knot_t_ns (int64) and velocities (N x 7: t, vx vy vz, wx wy wz, body frame).)doc")
-      .def("latest", &Stream::latest,
-           R"doc(The newest knot of the sliding window as [t, tx, ty, tz, qx, qy, qz, qw] (still being refined),
+      .def(
+          "latest", &Stream::latest,
+          R"doc(The newest knot of the sliding window as [t, tx, ty, tz, qx, qy, qz, qw] (still being refined),
 or None before initialization, after a tracking loss, or with a full-history backend.)doc")
       .def("finish", &Stream::finish,
            "End of the stream: final solve, every remaining knot becomes final (then poll() returns them).")

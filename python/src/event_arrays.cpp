@@ -50,16 +50,19 @@ std::string dtypeName(const py::array& a) { return py::str(a.dtype()).cast<std::
 py::array integerColumn(const py::handle& obj, const char* name, bool allow_bool) {
   py::array a = py::array::ensure(obj);
   if (!a) throw py::value_error(fmt::format("{} is not an array (numpy array or sequence of numbers)", name));
-  if (a.ndim() != 1) throw py::value_error(fmt::format("{} must be one-dimensional, not {}-dimensional", name, a.ndim()));
+  if (a.ndim() != 1)
+    throw py::value_error(fmt::format("{} must be one-dimensional, not {}-dimensional", name, a.ndim()));
   const char kind = a.dtype().kind();
   const bool ok = kind == 'i' || kind == 'u' || (allow_bool && kind == 'b');
   if (!ok) {
     if (name[0] == 't')
-      throw py::value_error(fmt::format("t has dtype {}: event times are integer nanoseconds (int64), e.g. "
-                                        "numpy.round(t_s * 1e9).astype(numpy.int64)",
-                                        dtypeName(a)));
-    throw py::value_error(fmt::format("{} has dtype {}: {} must be {}", name, dtypeName(a), name,
-                                      allow_bool ? "bool or integers (1 ON, 0 or -1 OFF)" : "integers (pixels)"));
+      throw py::value_error(
+          fmt::format("t has dtype {}: event times are integer nanoseconds (int64), e.g. "
+                      "numpy.round(t_s * 1e9).astype(numpy.int64)",
+                      dtypeName(a)));
+    throw py::value_error(
+        fmt::format("{} has dtype {}: {} must be {}", name, dtypeName(a), name,
+                    allow_bool ? "bool or integers (1 ON, 0 or -1 OFF)" : "integers (pixels)"));
   }
   return a;
 }
@@ -96,15 +99,16 @@ std::vector<Event> eventsFromArrays(const py::handle& t_obj, const py::handle& x
   const std::pair<const char*, const py::array*> others[] = {{"x", &x}, {"y", &y}, {"p", &p}};
   for (const auto& [name, a] : others)
     if (static_cast<std::size_t>(a->size()) != n)
-      throw py::value_error(fmt::format("{} has {} elements but t has {}: t, x, y and p must have the same length",
-                                        name, a->size(), n));
+      throw py::value_error(fmt::format(
+          "{} has {} elements but t has {}: t, x, y and p must have the same length", name, a->size(), n));
 
   std::vector<Event> events(n);
   visitInteger(t, "t", [&](const auto* data, std::size_t) {
     for (std::size_t i = 0; i < n; ++i) {
       const auto v = data[i];
       if constexpr (std::is_same_v<std::decay_t<decltype(v)>, uint64_t>) {
-        if (v > static_cast<uint64_t>(INT64_MAX)) throw py::value_error(fmt::format("t[{}] = {} does not fit int64", i, v));
+        if (v > static_cast<uint64_t>(INT64_MAX))
+          throw py::value_error(fmt::format("t[{}] = {} does not fit int64", i, v));
       }
       events[i].t_ns = static_cast<int64_t>(v);
       if (i > 0 && events[i].t_ns < events[i - 1].t_ns)

@@ -32,8 +32,8 @@ pybind11::array_t<T> toNumpy(std::vector<T>&& values) {
   auto holder = std::make_unique<std::vector<T>>(std::move(values));
   std::vector<T>* owned = holder.get();
   // The capsule owns the vector from here on and frees it with the array.
-  pybind11::capsule free_when_done(holder.release(),
-                                   [](void* p) { std::unique_ptr<std::vector<T>>(static_cast<std::vector<T>*>(p)); });
+  pybind11::capsule free_when_done(
+      holder.release(), [](void* p) { std::unique_ptr<std::vector<T>>(static_cast<std::vector<T>*>(p)); });
   return pybind11::array_t<T>({static_cast<pybind11::ssize_t>(owned->size())}, {sizeof(T)}, owned->data(),
                               free_when_done);
 }
@@ -43,7 +43,8 @@ void addColumns(EventColumns&& columns, pybind11::dict& out);
 
 /// Checks and converts arrays t (integer ns, non-decreasing), x, y (integers inside width × height) and
 /// p (bool or integer: 1 ON, 0 or -1 OFF). Throws pybind11::value_error naming the array and index.
-std::vector<Event> eventsFromArrays(const pybind11::handle& t, const pybind11::handle& x, const pybind11::handle& y,
-                                    const pybind11::handle& p, int width, int height);
+std::vector<Event> eventsFromArrays(const pybind11::handle& t, const pybind11::handle& x,
+                                    const pybind11::handle& y, const pybind11::handle& p, int width,
+                                    int height);
 
 }  // namespace asynevo::python

@@ -10,7 +10,9 @@ namespace py = pybind11;
 
 namespace asynevo::python {
 
-void CollectingOutput::onFinalKnots(const std::vector<backend::Knot>& k) { knots.insert(knots.end(), k.begin(), k.end()); }
+void CollectingOutput::onFinalKnots(const std::vector<backend::Knot>& k) {
+  knots.insert(knots.end(), k.begin(), k.end());
+}
 
 void CollectingOutput::onLandmarks(const std::vector<backend::LandmarkPoint>& l) {
   landmarks.insert(landmarks.end(), l.begin(), l.end());
@@ -87,8 +89,8 @@ void addLandmarks(const std::vector<backend::LandmarkPoint>& landmarks, py::dict
 StampedTrajectory posesFromArray(const py::handle& obj, const char* what) {
   const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
   if (!a || a.ndim() != 2 || a.shape(1) != 8)
-    throw py::value_error(fmt::format("{} must be an N×8 array (t [s], tx ty tz qx qy qz qw) or a TUM file path",
-                                      what));
+    throw py::value_error(
+        fmt::format("{} must be an N×8 array (t [s], tx ty tz qx qy qz qw) or a TUM file path", what));
   const auto m = a.unchecked<2>();
   StampedTrajectory poses(static_cast<std::size_t>(a.shape(0)));
   for (py::ssize_t i = 0; i < a.shape(0); ++i) {
@@ -101,7 +103,8 @@ StampedTrajectory posesFromArray(const py::handle& obj, const char* what) {
     if (q.norm() < 1e-9) throw py::value_error(fmt::format("{}[{}] has a zero quaternion", what, i));
     p.q_w_c = q.normalized();
     if (i > 0 && p.t_ns < poses[static_cast<std::size_t>(i - 1)].t_ns)
-      throw py::value_error(fmt::format("{} is not sorted by time: row {} is earlier than row {}", what, i, i - 1));
+      throw py::value_error(
+          fmt::format("{} is not sorted by time: row {} is earlier than row {}", what, i, i - 1));
   }
   return poses;
 }
