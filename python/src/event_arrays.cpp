@@ -53,7 +53,8 @@ py::array integerColumn(const py::handle& obj, const char* name, bool allow_bool
   if (a.ndim() != 1)
     throw py::value_error(fmt::format("{} must be one-dimensional, not {}-dimensional", name, a.ndim()));
   const char kind = a.dtype().kind();
-  const bool ok = kind == 'i' || kind == 'u' || (allow_bool && kind == 'b');
+  // An empty array (e.g. from an empty list, float64) has no values to misread.
+  const bool ok = kind == 'i' || kind == 'u' || (allow_bool && kind == 'b') || a.size() == 0;
   if (!ok) {
     if (name[0] == 't')
       throw py::value_error(
@@ -78,6 +79,7 @@ bool visitAs(const py::array& a, F& f) {
 /// Calls f(const T* data, n) with the array's own element type (no conversion of the whole column).
 template <class F>
 void visitInteger(const py::array& a, const char* name, F&& f) {
+  if (a.size() == 0) return;
   if (visitAs<int64_t>(a, f) || visitAs<uint16_t>(a, f) || visitAs<int8_t>(a, f) || visitAs<bool>(a, f) ||
       visitAs<int32_t>(a, f) || visitAs<uint32_t>(a, f) || visitAs<int16_t>(a, f) || visitAs<uint8_t>(a, f) ||
       visitAs<uint64_t>(a, f))
