@@ -10,6 +10,8 @@ WORK = pathlib.Path(os.environ.get("ASYNEVO_TEST_WORK", "/tmp/asynevo-python-tes
 # 'asynevo run' on it (python.cli_run_fixture).
 SIM = WORK / "sim_boxes"
 CLI_RUN = WORK / "cli_run"
+# The command line (set by ctest).
+ASYNEVO_BIN = os.environ.get("ASYNEVO_BIN", str(SOURCE_DIR / "build" / "bin" / "asynevo"))
 
 
 def assert_same_as_cli(test, trajectory, knot_t_ns):

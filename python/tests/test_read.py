@@ -1,10 +1,14 @@
 """asynevo.read_events against independently known contents of the bundled test files."""
+import os
+import pathlib
+import subprocess
+import tempfile
 import unittest
 
 import numpy as np
 
 import asynevo
-from common import DATA, ecd_text_events
+from common import ASYNEVO_BIN, DATA, ecd_text_events
 
 
 class ReadEvents(unittest.TestCase):
@@ -38,6 +42,24 @@ class ReadEvents(unittest.TestCase):
                 np.testing.assert_array_equal(ev["x"], i % 240)
                 np.testing.assert_array_equal(ev["y"], i % 180)
                 np.testing.assert_array_equal(ev["p"], np.where(i % 2 == 0, 1, -1))
+
+    def test_every_event_equals_what_the_command_line_reader_writes(self):
+        # 'asynevo convert' writes what the C++ reader delivers as ECD text (exact ns, 9 decimals).
+        if not os.access(ASYNEVO_BIN, os.X_OK):
+            self.skipTest(f"no command line at {ASYNEVO_BIN}")
+        sources = [DATA / "ecd" / "slider_depth", DATA / "ecd" / "boxes_rotation" / "events.txt",
+                   DATA / "rosbag" / "dvs_bz2.bag"]
+        with tempfile.TemporaryDirectory() as tmp:
+            for source in sources:
+                with self.subTest(source=source.name):
+                    text = pathlib.Path(tmp) / (source.name + ".txt")
+                    subprocess.run([ASYNEVO_BIN, "convert", "--dataset", str(source), "--out", str(text)], check=True,
+                                   stdout=subprocess.DEVNULL)
+                    expected = np.array(ecd_text_events(text), dtype=np.int64)
+                    ev = asynevo.read_events(source)
+                    self.assertEqual(len(ev["t"]), len(expected))
+                    got = np.stack([ev["t"], ev["x"], ev["y"], ev["p"]], axis=1).astype(np.int64)
+                    np.testing.assert_array_equal(got, expected)
 
     def test_max_events_and_format(self):
         ev = asynevo.read_events(str(DATA / "ecd" / "poster_rotation" / "events.txt"), format="ecd", max_events=123)
