@@ -3,7 +3,7 @@
 
 Prints, for one event file (any supported format):
   read_events   wall time, the reader's own time (parse_s) and the time spent copying its packets into
-                the numpy columns (convert_s: the conversion cost, file parsing excluded)
+                the numpy arrays (convert_s: the conversion cost, file parsing excluded)
   check_events  numpy arrays -> C++ events with every check run() and Stream.push() make
 A benchmark, not a test: it prints figures and fails only when something does not work.
 

@@ -8,38 +8,34 @@ namespace py = pybind11;
 
 namespace asynevo::python {
 
-void EventColumns::reserve(std::size_t n) {
-  t.reserve(n);
-  x.reserve(n);
-  y.reserve(n);
-  p.reserve(n);
-}
-
-void EventColumns::append(const std::vector<Event>& events) {
-  const std::size_t n0 = size(), n = events.size();
-  if (t.capacity() < n0 + n) reserve(std::max(2 * t.capacity(), n0 + n));
-  t.resize(n0 + n);
-  x.resize(n0 + n);
-  y.resize(n0 + n);
-  p.resize(n0 + n);
-  int64_t* pt = t.data() + n0;
-  uint16_t* px = x.data() + n0;
-  uint16_t* py_ = y.data() + n0;
-  int8_t* pp = p.data() + n0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Event& e = events[i];
-    pt[i] = e.t_ns;
-    px[i] = e.x;
-    py_[i] = e.y;
-    pp[i] = e.polarity;
+void addColumns(const EventChunks& chunks, py::dict& out) {
+  std::size_t n = 0;
+  for (const auto& chunk : chunks) n += chunk.size();
+  const auto size = static_cast<py::ssize_t>(n);
+  py::array_t<int64_t> t(size);
+  py::array_t<uint16_t> x(size), y(size);
+  py::array_t<int8_t> p(size);
+  int64_t* pt = t.mutable_data();
+  uint16_t* px = x.mutable_data();
+  uint16_t* py_ = y.mutable_data();
+  int8_t* pp = p.mutable_data();
+  {
+    py::gil_scoped_release release;
+    std::size_t i = 0;
+    for (const auto& chunk : chunks) {
+      for (const Event& e : chunk) {
+        pt[i] = e.t_ns;
+        px[i] = e.x;
+        py_[i] = e.y;
+        pp[i] = e.polarity;
+        ++i;
+      }
+    }
   }
-}
-
-void addColumns(EventColumns&& columns, py::dict& out) {
-  out["t"] = toNumpy(std::move(columns.t));
-  out["x"] = toNumpy(std::move(columns.x));
-  out["y"] = toNumpy(std::move(columns.y));
-  out["p"] = toNumpy(std::move(columns.p));
+  out["t"] = t;
+  out["x"] = x;
+  out["y"] = y;
+  out["p"] = p;
 }
 
 namespace {
