@@ -7,6 +7,7 @@ PYBIND11_MODULE(asynevo, m) {
 
 Functions
   read_events(path, format="auto", ...)   events of any supported file or dataset folder as numpy arrays
+  check_events(t, x, y, p, width, height)  the checks run() and Stream.push() make on event arrays
   run(source, calib=None, config=None, ...) the offline pipeline (as 'asynevo run') on a dataset or arrays
   evaluate(gt, est, align="sim3", ...)     ATE and relative errors (as 'asynevo eval')
   Stream(calib, config=None, ...)          feed event batches, poll poses (live use)

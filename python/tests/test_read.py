@@ -80,7 +80,7 @@ class ReadEvents(unittest.TestCase):
 
     def test_help_is_documented(self):
         self.assertIn("int64 timestamps", asynevo.read_events.__doc__)
-        for name in ("run", "evaluate", "Stream", "Error", "InputError", "ConfigError"):
+        for name in ("run", "evaluate", "check_events", "Stream", "Error", "InputError", "ConfigError"):
             self.assertTrue(getattr(asynevo, name).__doc__, name)
 
 
