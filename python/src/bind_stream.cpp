@@ -71,7 +71,7 @@ class Stream {
   }
 
   py::object latest() {
-    std::lock_guard<std::mutex> lock(mutex_);
+    const auto held = lock();
     const std::optional<backend::Knot> k = feed_->newestKnot();
     if (!k) return py::none();
     return trajectoryArray(std::vector<backend::Knot>{*k})[py::int_(0)];
@@ -84,7 +84,7 @@ class Stream {
   }
 
   py::dict landmarks() {
-    std::lock_guard<std::mutex> lock(mutex_);
+    const auto held = lock();
     for (backend::LandmarkPoint& l : feed_->takeFinalLandmarks()) landmarks_.push_back(l);
     py::dict out;
     addLandmarks(landmarks_, out);
@@ -92,7 +92,7 @@ class Stream {
   }
 
   py::dict stats() {
-    std::lock_guard<std::mutex> lock(mutex_);
+    const auto held = lock();
     const backend::EstimatorStats& e = feed_->estimatorStats();
     const frontend::FrontendStats& f = feed_->frontendStats();
     py::dict s;
@@ -116,6 +116,15 @@ class Stream {
     s["segments"] = e.segments.size();
     s["finished"] = feed_->finished();
     return s;
+  }
+
+  /// The feed's lock, waited for with the GIL released (push() in another thread holds it while it
+  /// runs); the GIL is held again on return.
+  std::unique_lock<std::mutex> lock() {
+    std::unique_lock<std::mutex> held(mutex_, std::defer_lock);
+    py::gil_scoped_release release;
+    held.lock();
+    return held;
   }
 
   int width() const { return feed_->config().sensor.width; }

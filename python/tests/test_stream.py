@@ -1,4 +1,5 @@
 """asynevo.Stream: batches pushed in, poses polled; the same trajectory as run() on the same events."""
+import threading
 import unittest
 
 import numpy as np
@@ -41,6 +42,31 @@ class StreamTest(unittest.TestCase):
         with self.assertRaises(ValueError) as cm:
             s.push(ev["t"][-1:], ev["x"][-1:], ev["y"][-1:], ev["p"][-1:])
         self.assertIn("after finish()", str(cm.exception))
+
+    def test_polling_from_another_thread_while_pushing(self):
+        if not (SIM / "events.txt").exists():
+            self.skipTest(f"{SIM} is missing: run the ctest fixtures (ctest -L python)")
+        ev = asynevo.read_events(SIM)
+        n = int(np.searchsorted(ev["t"], ev["t"][0] + 800_000_000))  # the first 0.8 s
+        s = asynevo.Stream(SIM / "calib.txt")
+
+        def pusher():
+            for a in range(0, n, 20000):
+                b = min(n, a + 20000)
+                s.push(ev["t"][a:b], ev["x"][a:b], ev["y"][a:b], ev["p"][a:b])
+
+        thread = threading.Thread(target=pusher)
+        thread.start()
+        seen, polled = set(), 0
+        while thread.is_alive():
+            seen.add(s.stats["events"])
+            polled += len(s.poll()["trajectory"])
+            s.latest()
+        thread.join()
+        self.assertGreater(len(seen), 2)  # the counters moved while the other thread pushed
+        self.assertEqual(s.stats["events"], n)
+        s.finish()
+        self.assertGreater(polled + len(s.poll()["trajectory"]), 5)
 
     def test_an_earlier_batch_is_rejected_whole(self):
         s = asynevo.Stream({"fx": 200, "fy": 200, "cx": 120, "cy": 90, "width": 240, "height": 180})
