@@ -113,7 +113,8 @@ void runEvents(EventReader& reader, const CameraModel& camera, const Config& con
   writer.writeConfig(config);
   frontend::Frontend fe(config.frontend, reader.info().width, reader.info().height,
                         camera.undistortionTable<float>());
-  std::unique_ptr<backend::Estimator> estimator_ptr = makeEstimator(options.backend, config, camera, fe, options.real_time);
+  std::unique_ptr<backend::Estimator> estimator_ptr =
+      makeEstimator(options.backend, config, camera, fe, options.real_time);
   backend::Estimator& estimator = *estimator_ptr;
   summary.backend_name = estimator.name();
 
