@@ -92,8 +92,9 @@ class TeeOutput final : public PipelineOutput {
 
 }  // namespace
 
-std::unique_ptr<backend::Estimator> makeEstimator(BackendKind kind, const Config& config, const CameraModel& camera,
-                                                  const frontend::Frontend& fe, bool real_time) {
+std::unique_ptr<backend::Estimator> makeEstimator(BackendKind kind, const Config& config,
+                                                  const CameraModel& camera, const frontend::Frontend& fe,
+                                                  bool real_time) {
   backend::EstimatorOptions estimator_options;
   estimator_options.config = config.backend;
   // Pixel thresholds of the backend are in the frontend's (binned) pixels, like its measurements' noise.
@@ -107,8 +108,8 @@ std::unique_ptr<backend::Estimator> makeEstimator(BackendKind kind, const Config
   return std::make_unique<backend::SlidingWindowEstimator>(estimator_options);
 }
 
-void runEvents(EventReader& reader, const CameraModel& camera, const Config& config, const RunOptions& options,
-               RunFolderWriter& writer, RunSummary& summary,
+void runEvents(EventReader& reader, const CameraModel& camera, const Config& config,
+               const RunOptions& options, RunFolderWriter& writer, RunSummary& summary,
                const std::function<void(const PipelineProgress&)>& progress, PipelineOutput* observer) {
   writer.writeConfig(config);
   frontend::Frontend fe(config.frontend, reader.info().width, reader.info().height,
