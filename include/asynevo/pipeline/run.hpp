@@ -85,16 +85,17 @@ RunSummary runDataset(const RunOptions& options,
 
 /// The estimator 'asynevo run --backend' selects, for measurements from `fe` (its binning sets the
 /// backend's pixel thresholds) of a camera `camera`.
-std::unique_ptr<backend::Estimator> makeEstimator(BackendKind kind, const Config& config, const CameraModel& camera,
-                                                  const frontend::Frontend& fe, bool real_time);
+std::unique_ptr<backend::Estimator> makeEstimator(BackendKind kind, const Config& config,
+                                                  const CameraModel& camera, const frontend::Frontend& fe,
+                                                  bool real_time);
 
 /// The part of runDataset that processes events: writes config.yaml, builds the frontend and the
 /// estimator (options.backend, real_time, speed), runs the pipeline into `writer` (and `observer`, when
 /// given) and fills the summary's run fields (backend name, pipeline, frontend and estimator statistics,
 /// counts written, noise warnings). `config` holds the reader's sensor size and is valid; `camera` has
 /// that size.
-void runEvents(EventReader& reader, const CameraModel& camera, const Config& config, const RunOptions& options,
-               RunFolderWriter& writer, RunSummary& summary,
+void runEvents(EventReader& reader, const CameraModel& camera, const Config& config,
+               const RunOptions& options, RunFolderWriter& writer, RunSummary& summary,
                const std::function<void(const PipelineProgress&)>& progress = {},
                PipelineOutput* observer = nullptr);
 
