@@ -67,10 +67,80 @@ void noiseWarnings(const frontend::Frontend& fe, std::vector<std::string>& warni
       dominant.size(), list));
 }
 
+/// Hands every output to the run-folder writer and, when there is one, to an observer (same order).
+class TeeOutput final : public PipelineOutput {
+ public:
+  TeeOutput(PipelineOutput& first, PipelineOutput* second) : first_(first), second_(second) {}
+  void onMeasurement(const TrackMeasurement& m) override {
+    first_.onMeasurement(m);
+    if (second_) second_->onMeasurement(m);
+  }
+  void onMarker(int64_t t_ns) override {
+    first_.onMarker(t_ns);
+    if (second_) second_->onMarker(t_ns);
+  }
+  void onFinalKnots(const std::vector<backend::Knot>& knots) override {
+    first_.onFinalKnots(knots);
+    if (second_) second_->onFinalKnots(knots);
+  }
+  void onUpdateRecords(const std::vector<backend::UpdateRecord>& records) override {
+    first_.onUpdateRecords(records);
+    if (second_) second_->onUpdateRecords(records);
+  }
+  void onLandmarks(const std::vector<backend::LandmarkPoint>& landmarks) override {
+    first_.onLandmarks(landmarks);
+    if (second_) second_->onLandmarks(landmarks);
+  }
+
+ private:
+  PipelineOutput& first_;
+  PipelineOutput* second_;
+};
+
 }  // namespace
 
-RunSummary runDataset(const RunOptions& options,
-                      const std::function<void(const PipelineProgress&)>& progress) {
+std::unique_ptr<backend::Estimator> makeEstimator(BackendKind kind, const Config& config,
+                                                  const CameraModel& camera, const frontend::Frontend& fe,
+                                                  bool real_time) {
+  backend::EstimatorOptions estimator_options;
+  estimator_options.config = config.backend;
+  // Pixel thresholds of the backend are in the frontend's (binned) pixels, like its measurements' noise.
+  estimator_options.focal_px = 0.5 * (camera.fx() + camera.fy()) / fe.binning();
+  estimator_options.real_time = real_time;
+  return makeEstimator(kind, estimator_options);
+}
+
+void runEvents(EventReader& reader, const CameraModel& camera, const Config& config,
+               const RunOptions& options, RunFolderWriter& writer, RunSummary& summary,
+               const std::function<void(const PipelineProgress&)>& progress, PipelineOutput* observer) {
+  writer.writeConfig(config);
+  frontend::Frontend fe(config.frontend, reader.info().width, reader.info().height,
+                        camera.undistortionTable<float>());
+  std::unique_ptr<backend::Estimator> estimator_ptr =
+      makeEstimator(options.backend, config, camera, fe, options.real_time);
+  backend::Estimator& estimator = *estimator_ptr;
+  summary.backend_name = estimator.name();
+
+  PipelineOptions pipeline_options;
+  pipeline_options.real_time = options.real_time;
+  pipeline_options.speed = options.speed;
+  TeeOutput tee(writer, observer);
+  Pipeline pipeline(reader, fe, estimator, tee, pipeline_options);
+  summary.pipeline = pipeline.run(progress);
+  writer.close();
+
+  summary.frontend = fe.stats();
+  summary.hot_pixels = fe.hotPixels();
+  noiseWarnings(fe, summary.warnings);
+  summary.estimator = estimator.stats();
+  summary.update_time = writer.updateTimeStats();
+  summary.knots_written = writer.knotsWritten();
+  summary.landmarks_written = writer.landmarksWritten();
+  summary.measurements_written = writer.measurementsWritten();
+}
+
+RunSummary runDataset(const RunOptions& options, const std::function<void(const PipelineProgress&)>& progress,
+                      PipelineOutput* observer) {
   RunSummary summary;
   summary.out_dir = options.out;
 
@@ -127,33 +197,7 @@ RunSummary runDataset(const RunOptions& options,
 
   // Outputs that do not depend on the run come first: a failed run still says how it was configured.
   RunFolderWriter writer(options.out);
-  writer.writeConfig(config);
-
-  frontend::Frontend fe(config.frontend, summary.width, summary.height, camera.undistortionTable<float>());
-  backend::EstimatorOptions estimator_options;
-  estimator_options.config = config.backend;
-  // Pixel thresholds of the backend are in the frontend's (binned) pixels, like its measurements' noise.
-  estimator_options.focal_px = 0.5 * (camera.fx() + camera.fy()) / fe.binning();
-  estimator_options.real_time = options.real_time;
-  std::unique_ptr<backend::Estimator> estimator_ptr = makeEstimator(options.backend, estimator_options);
-  backend::Estimator& estimator = *estimator_ptr;
-  summary.backend_name = estimator.name();
-
-  PipelineOptions pipeline_options;
-  pipeline_options.real_time = options.real_time;
-  pipeline_options.speed = options.speed;
-  Pipeline pipeline(*reader, fe, estimator, writer, pipeline_options);
-  summary.pipeline = pipeline.run(progress);
-  writer.close();
-
-  summary.frontend = fe.stats();
-  summary.hot_pixels = fe.hotPixels();
-  noiseWarnings(fe, summary.warnings);
-  summary.estimator = estimator.stats();
-  summary.update_time = writer.updateTimeStats();
-  summary.knots_written = writer.knotsWritten();
-  summary.landmarks_written = writer.landmarksWritten();
-  summary.measurements_written = writer.measurementsWritten();
+  runEvents(*reader, camera, config, options, writer, summary, progress, observer);
 
   // The ground truth: --gt-topic, else a file beside the events, else a bag's only pose topic
   // (loadDatasetGroundTruth). Problems are warnings: the estimate is written either way.

@@ -13,9 +13,11 @@
 
 #include "asynevo/backend/estimator.hpp"
 #include "asynevo/backend/sliding_window_estimator.hpp"
+#include "asynevo/core/camera/camera_model.hpp"
 #include "asynevo/core/config/config.hpp"
 #include "asynevo/core/error.hpp"
 #include "asynevo/frontend/frontend.hpp"
+#include "asynevo/io/event_reader.hpp"
 #include "asynevo/pipeline/pipeline.hpp"
 #include "asynevo/pipeline/run_folder.hpp"
 
@@ -78,9 +80,28 @@ struct RunSummary {
 
 /// Runs a dataset end to end and writes the run folder, also when initialization never succeeded
 /// (then the trajectory files are empty; check RunSummary::initialized()). Throws InputError /
-/// ConfigError / Error for bad input (missing calibration: before any event is read).
+/// ConfigError / Error for bad input (missing calibration: before any event is read). `observer`, when
+/// given, receives every output the run folder gets, in the same order (the Python bindings keep them in
+/// memory).
 RunSummary runDataset(const RunOptions& options,
-                      const std::function<void(const PipelineProgress&)>& progress = {});
+                      const std::function<void(const PipelineProgress&)>& progress = {},
+                      PipelineOutput* observer = nullptr);
+
+/// The estimator 'asynevo run --backend' selects, for measurements from `fe` (its binning sets the
+/// backend's pixel thresholds) of a camera `camera`.
+std::unique_ptr<backend::Estimator> makeEstimator(BackendKind kind, const Config& config,
+                                                  const CameraModel& camera, const frontend::Frontend& fe,
+                                                  bool real_time);
+
+/// The part of runDataset that processes events: writes config.yaml, builds the frontend and the
+/// estimator (options.backend, real_time, speed), runs the pipeline into `writer` (and `observer`, when
+/// given) and fills the summary's run fields (backend name, pipeline, frontend and estimator statistics,
+/// counts written, noise warnings). `config` holds the reader's sensor size and is valid; `camera` has
+/// that size.
+void runEvents(EventReader& reader, const CameraModel& camera, const Config& config,
+               const RunOptions& options, RunFolderWriter& writer, RunSummary& summary,
+               const std::function<void(const PipelineProgress&)>& progress = {},
+               PipelineOutput* observer = nullptr);
 
 /// "initialization never succeeded: <estimator's last failure> (… counts …)".
 std::string initializationFailureMessage(const RunSummary& summary);
