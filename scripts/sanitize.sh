@@ -79,10 +79,22 @@ for name in "${replays[@]}"; do
   "$build/bin/fuzz_replay_$name" "$root/fuzz/corpus/$name" >/dev/null || { echo "sanitize: fuzz replay $name failed" >&2; status=1; }
 done
 echo "sanitize: ${#replays[@]} fuzz replays $((SECONDS - started)) s" >&2
-if compgen -G "$logs/report.*" >/dev/null; then
+# A report is an error, a UBSan finding or a leak. allocator_may_return_null=1 also logs a warning
+# ("AddressSanitizer failed to allocate ...") each time libhdf5 asks for an impossible size on a corrupt
+# fuzz input and gets NULL, which is the allowance above working, not a finding: those files are shown,
+# not counted.
+reports=()
+for f in "$logs"/report.*; do
+  [ -e "$f" ] || continue
+  if grep -qE 'ERROR: |runtime error|LeakSanitizer' "$f"; then reports+=("$f"); fi
+done
+if [ ${#reports[@]} -gt 0 ]; then
   echo "sanitize: sanitizer reports (ASan/UBSan/LSan):" >&2
-  cat "$logs"/report.* >&2
+  cat "${reports[@]}" >&2
   status=1
+elif compgen -G "$logs/report.*" >/dev/null; then
+  echo "sanitize: allocation warnings only (libhdf5 on corrupt fuzz inputs, allowed):" >&2
+  grep -h "failed to allocate" "$logs"/report.* | sort | uniq -c >&2 || true
 fi
 [ $status -eq 0 ] && echo "sanitize: no sanitizer report, every test passed" >&2
 exit $status
