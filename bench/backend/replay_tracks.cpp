@@ -295,12 +295,22 @@ int main(int argc, char** argv) try {
   {
     // The update records next to the trajectory (OUT_TRAJ.updates.csv) for plots of the window.
     std::ofstream updates(args.out + ".updates.csv");
-    updates << "t,knots,landmarks,measurements,iterations,solve_ms,total_ms,final_cost\n";
+    updates << "t,knots,landmarks,recent_landmarks,measurements,iterations,solve_ms,total_ms,final_cost\n";
     for (const auto& r : records)
-      updates << fmt::format("{:.4f},{},{},{},{},{:.2f},{:.2f},{:.4g}\n", r.event_t_ns * 1e-9, r.window_knots,
-                             r.landmarks, r.measurements, r.iterations, r.solve_ms, r.total_ms, r.final_cost);
+      updates << fmt::format("{:.4f},{},{},{},{},{},{:.2f},{:.2f},{:.4g}\n", r.event_t_ns * 1e-9, r.window_knots,
+                             r.landmarks, r.recent_landmarks, r.measurements, r.iterations, r.solve_ms, r.total_ms,
+                             r.final_cost);
   }
   printUpdateCost(records);
+  // Updates whose window held landmarks but none measured in the newest knot interval (the window coasted
+  // on the motion prior), and the longest such stretch.
+  int coasting = 0, run = 0, longest = 0;
+  for (const auto& r : records) {
+    run = r.landmarks > 0 && r.recent_landmarks == 0 ? run + 1 : 0;
+    coasting += run > 0;
+    longest = std::max(longest, run);
+  }
+  fmt::print("coasting updates: {} of {}, longest {} in a row\n", coasting, records.size(), longest);
   const auto stats = estimator->stats();
   fmt::print(
       "{}: fed {} measurements ({} skipped), {} knots, initialized {} at {:.3f} s after {} attempt(s)\n",
@@ -314,6 +324,10 @@ int main(int argc, char** argv) try {
       stats.observations_marginalized, stats.observations_dropped_forced,
       stats.observations_dropped_untriangulated, stats.scale_anchors, stats.landmarks_depth_rejected,
       stats.landmarks_depth_reset);
+  const auto& tf = stats.triangulation_failures;  // by backend::TriangulationFailure
+  fmt::print("triangulation failures: too few views {}, low parallax {}, degenerate {}, behind camera {}, high "
+             "error {}\n",
+             tf[1], tf[2], tf[3], tf[4], tf[5]);
   fmt::print("tracking loss: largest window median residual {:.2f} px, largest depth ratio {:.2f}\n",
              stats.max_median_residual_px, stats.max_depth_ratio);
   return 0;

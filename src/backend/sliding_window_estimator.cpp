@@ -293,10 +293,13 @@ void SlidingWindowEstimator::update(int64_t t_ns) {
   record.iterations = iterations;
   record.final_cost = cost;
   record.window_knots = static_cast<int>(trajectory_.size());
+  const int64_t recent_from = trajectory_.newestTime() - knot_dt_ns_;
   for (const auto& [id, track] : tracks_) {
     if (!track.triangulated) continue;
     ++record.landmarks;
     for (const auto& o : track.observations) record.measurements += trajectory_.covers(o.t_ns);
+    record.recent_landmarks += !track.observations.empty() && track.observations.back().t_ns > recent_from &&
+                               trajectory_.covers(track.observations.back().t_ns);
   }
   record.total_ms = msSince(start);
   records_.push_back(record);

@@ -195,6 +195,21 @@ TEST(TrackingLoss, ATexturelessStretchIsBridgedByDefaultAndEndsTheSegmentWhenUns
     ASSERT_EQ(run.stats.segments.size(), 1u);
     EXPECT_EQ(run.stats.segments[0].end, SegmentEnd::kEndOfStream);
     expectFiniteAndIncreasing(run.knots);
+    // The update records say when the window coasts: landmarks measured in the newest knot interval
+    // before the stretch, none inside it (while older landmarks are still in the window).
+    int before = 0, inside = 0;
+    for (const UpdateRecord& r : run.records) {
+      if (r.event_t_ns > 700'000'000 && r.event_t_ns < 950'000'000) {
+        ++before;
+        EXPECT_GE(r.recent_landmarks, 10) << r.event_t_ns;
+      }
+      if (r.event_t_ns > 1'100'000'000 && r.event_t_ns < 1'900'000'000) {
+        ++inside;
+        EXPECT_EQ(r.recent_landmarks, 0) << r.event_t_ns;
+      }
+    }
+    EXPECT_GE(before, 3);
+    EXPECT_GE(inside, 10);
   }
   // loss_unsupported_ms 300: the segment ends inside the stretch, its knots after the last support are
   // not written, and the estimator starts again 0.5 s after texture returns (the multi-view start, once

@@ -25,6 +25,9 @@ struct UpdateRecord {
   int window_knots = 0;
   int landmarks = 0;
   int measurements = 0;      ///< projection factors in the solve
+  /// Landmarks with a measurement in the newest knot interval: 0 while the window still holds landmarks
+  /// means the newest knots rest on the motion prior alone (the window coasts).
+  int recent_landmarks = 0;
   int iterations = 0;
   double triangulate_ms = 0;
   double marginalize_ms = 0;
