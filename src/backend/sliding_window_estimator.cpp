@@ -262,7 +262,7 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   UpdateRecord record;
   record.event_t_ns = t_ns;
   record.window_knots = static_cast<int>(trajectory_.size());
-  record.landmarks = landmarks;
+  countWindow(record);
   record.iterations = iterations;
   record.final_cost = cost;
   record.solve_ms = msSince(start);
@@ -293,6 +293,15 @@ void SlidingWindowEstimator::update(int64_t t_ns) {
   record.iterations = iterations;
   record.final_cost = cost;
   record.window_knots = static_cast<int>(trajectory_.size());
+  countWindow(record);
+  record.total_ms = msSince(start);
+  records_.push_back(record);
+  ++stats_.updates;
+  stats_.max_window_knots = std::max(stats_.max_window_knots, record.window_knots);
+  checkTracking(t_ns, record.landmarks);
+}
+
+void SlidingWindowEstimator::countWindow(UpdateRecord& record) const {
   const int64_t recent_from = trajectory_.newestTime() - knot_dt_ns_;
   for (const auto& [id, track] : tracks_) {
     if (!track.triangulated) continue;
@@ -301,11 +310,6 @@ void SlidingWindowEstimator::update(int64_t t_ns) {
     record.recent_landmarks += !track.observations.empty() && track.observations.back().t_ns > recent_from &&
                                trajectory_.covers(track.observations.back().t_ns);
   }
-  record.total_ms = msSince(start);
-  records_.push_back(record);
-  ++stats_.updates;
-  stats_.max_window_knots = std::max(stats_.max_window_knots, record.window_knots);
-  checkTracking(t_ns, record.landmarks);
 }
 
 void SlidingWindowEstimator::checkTracking(int64_t t_ns, int landmarks) {

@@ -82,6 +82,8 @@ class SlidingWindowEstimator : public Estimator {
 
  private:
   void tryInitialize(int64_t t_ns);
+  /// The window's landmarks, their measurements in it and those measured in the newest knot interval.
+  void countWindow(UpdateRecord& record) const;
   /// init_agreement_deg: the start's motion agrees with the one the previous attempt found. Keeps the
   /// motion for the next attempt; on disagreement records the failure.
   bool agreesWithPreviousAttempt(const InitResult& motion);
