@@ -9,6 +9,7 @@
 # Usage: scripts/sanitize.sh            (after scripts/setup.sh has installed the packages)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+source "$root/scripts/sanitizer_tests.sh"
 build="$root/build-asan"
 
 # What runs under ASan + UBSan: "executable" or "executable:gtest filter". Times under ASan on a loaded
@@ -52,15 +53,8 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:allocator_may_return_null=1
 export LSAN_OPTIONS="suppressions=$root/fuzz/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:log_path=$logs/report"
 status=0
-cd "$root"  # the tests read their fixtures relative to the source folder, as under ctest
-for t in "${tests[@]}"; do
-  test="${t%%:*}"
-  filter="*"
-  [ "$t" != "$test" ] && filter="${t#*:}"
-  started=$SECONDS
-  "$build/bin/$test" --gtest_brief=1 --gtest_filter="$filter" || status=1
-  echo "sanitize: $test $((SECONDS - started)) s" >&2
-done
+cd "$root"
+run_gtests sanitize "$build" "${tests[@]}" || status=1
 started=$SECONDS
 for name in "${replays[@]}"; do
   "$build/bin/fuzz_replay_$name" "$root/fuzz/corpus/$name" >/dev/null || { echo "sanitize: fuzz replay $name failed" >&2; status=1; }

@@ -8,6 +8,7 @@
 # Usage: scripts/sanitize_thread.sh      (after scripts/setup.sh has installed the packages)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+source "$root/scripts/sanitizer_tests.sh"
 build="$root/build-tsan"
 
 # What runs under TSan: "executable" or "executable:gtest filter" (times in docs/reliability.md).
@@ -48,15 +49,8 @@ logs="$build/sanitizer-reports"
 rm -rf "$logs" && mkdir -p "$logs"
 export TSAN_OPTIONS="halt_on_error=0:second_deadlock_stack=1:log_path=$logs/report"
 status=0
-cd "$root"  # the tests read their fixtures relative to the source folder, as under ctest
-for t in "${tests[@]}"; do
-  test="${t%%:*}"
-  filter="*"
-  [ "$t" != "$test" ] && filter="${t#*:}"
-  started=$SECONDS
-  "$build/bin/$test" --gtest_brief=1 --gtest_filter="$filter" || status=1
-  echo "sanitize-thread: $test $((SECONDS - started)) s" >&2
-done
+cd "$root"
+run_gtests sanitize-thread "$build" "${tests[@]}" || status=1
 if compgen -G "$logs/report.*" >/dev/null; then
   echo "sanitize-thread: ThreadSanitizer reports:" >&2
   cat "$logs"/report.* >&2
