@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <string_view>
+#include <tuple>
 #include <utility>
 #include <cmath>
 #include <limits>
@@ -257,8 +258,15 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   segment_depth_ = 0;
   stats_.knots += trajectory_.size();
   const auto start = Clock::now();
-  const auto [iterations, cost] = solve(std::max(options_.config.max_iterations, 20));
+  auto [iterations, cost] = solve(std::max(options_.config.max_iterations, 20));
   removeOutliers();
+  // The trajectories that failed against the constant-twist knots, tried again against the solved ones
+  // (init_retriangulate; docs/method/initialization.md, "First knots").
+  if (options_.config.init_retriangulate && retriangulateUntriangulated() > 0) {
+    ++stats_.init_retriangulations;
+    std::tie(iterations, cost) = solve(options_.config.max_iterations);
+    removeOutliers();
+  }
   UpdateRecord record;
   record.event_t_ns = t_ns;
   record.window_knots = static_cast<int>(trajectory_.size());
@@ -268,6 +276,18 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   record.solve_ms = msSince(start);
   record.total_ms = record.solve_ms;
   records_.push_back(record);
+}
+
+int SlidingWindowEstimator::retriangulateUntriangulated() {
+  int before = 0;
+  for (auto& [id, track] : tracks_) {
+    before += track.triangulated;
+    if (!track.triangulated) track.observations_at_last_attempt = 0;
+  }
+  triangulateTracks();
+  int after = 0;
+  for (const auto& [id, track] : tracks_) after += track.triangulated;
+  return after - before;
 }
 
 void SlidingWindowEstimator::update(int64_t t_ns) {

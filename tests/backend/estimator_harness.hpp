@@ -66,7 +66,7 @@ inline backend::EstimatorOptions syntheticSceneOptions() {
   backend::EstimatorOptions options;
   options.focal_px = 200;
   options.config.init_min_parallax_px = 5;  // the synthetic camera moves slowly (~5 px of parallax in 200 ms)
-  // The spans these tests were calibrated with (the default before session 6); with 500 ms the start
+  // The span these tests were calibrated with (an earlier default); with 500 ms the start
   // moves by a knot or two and the knot-count and track-rejection thresholds sit on their edges.
   options.config.init_window_ms = 300;
   return options;

@@ -54,6 +54,8 @@ struct EstimatorStats {
   std::array<uint64_t, kInitRejections> init_rejections{};
   /// Attempts whose knots were refitted (init_refine_rotations) after too few landmarks triangulated.
   uint64_t init_rotation_refits = 0;
+  /// Starts whose first solve let more trajectories become landmarks (init_retriangulate).
+  uint64_t init_retriangulations = 0;
   /// The two views the estimator started from (valid once initialized).
   struct InitViews {
     std::string method;      ///< "two-view" or "multi-view"

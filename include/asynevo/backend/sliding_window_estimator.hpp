@@ -97,6 +97,9 @@ class SlidingWindowEstimator : public Estimator {
   InitResult findInitialMotion(int64_t earliest_ns, int64_t t_b_ns, const BackendConfig& config,
                                bool relaxed_counts) const;
   void triangulateTracks();
+  /// Tries every trajectory that is not a landmark again, against the knots as they are now (after the
+  /// start's solve, init_retriangulate); returns how many became landmarks.
+  int retriangulateUntriangulated();
   /// landmark_depth_range: depths in the newest knot's camera within a factor of the window
   /// landmarks' median depth. Admits everything when off or with fewer than 10 landmarks.
   struct DepthGate {

@@ -79,6 +79,10 @@ struct BackendConfig {
   /// whose translation direction (body frame) lies within this angle of it (0 = off): a start whose
   /// geometry is too weak to repeat is not built on (docs/method/initialization.md, "Agreement").
   double init_agreement_deg = 0.0;
+  /// After the start's first solve, try the trajectories that did not become landmarks again, against
+  /// the solved knots (the constant-twist knots they failed against are degrees off where the motion
+  /// changes within the window), and solve again when some did.
+  bool init_retriangulate = true;
 
   // --- tracking loss (docs/method/tracking_loss.md): the segment ends, the estimator starts again ---
   double loss_max_event_gap_ms = 250.0;  ///< a gap in the events longer than this ends the segment (0 = off)
@@ -134,6 +138,8 @@ struct BackendConfig {
       "initialization: refit the first knots' rotations to the tracks when too few landmarks triangulate");
     v("init_agreement_deg", init_agreement_deg,
       "initialization: a start needs the previous attempt's translation direction within this angle [deg] (0 = off)");
+    v("init_retriangulate", init_retriangulate,
+      "initialization: after the start's solve, triangulate the remaining trajectories again and solve again");
     v("loss_max_event_gap_ms", loss_max_event_gap_ms,
       "tracking loss: a gap in the events longer than this ends the segment [ms] (0 = off)");
     v("loss_min_landmarks", loss_min_landmarks, "tracking loss: fewer landmarks in the window is unsupported");
