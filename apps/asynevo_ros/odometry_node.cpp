@@ -243,10 +243,12 @@ void OdometryNode::onStatsTimer(const ros::WallTimerEvent&) {
   std::lock_guard<std::mutex> lock(mutex_);
   msg.data = statsJson();
   stats_pub_.publish(msg);
-  if (messages_received_ == 0) return;
+  Progress& p = progress_;
+  // A line while messages arrive or wait; none while the stream is idle.
+  if (messages_received_ == logged_messages_ && queued_events_ == 0) return;
+  logged_messages_ = messages_received_;
   uint64_t skipped_total = 0;
   for (uint64_t n : skipped_) skipped_total += n;
-  Progress& p = progress_;
   ROS_INFO("asynevo: %llu events processed, %llu queued; backend lag %.3f s (max %.3f s in the last %.1f s); "
            "%s, %llu knots; %llu messages skipped, %llu dropped (overload)",
            static_cast<unsigned long long>(p.events_processed), static_cast<unsigned long long>(queued_events_),
@@ -258,6 +260,7 @@ void OdometryNode::onStatsTimer(const ros::WallTimerEvent&) {
 
 void OdometryNode::finish() {
   events_sub_.shutdown();
+  stats_timer_.stop();
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stopping_ = true;
