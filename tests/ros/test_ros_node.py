@@ -2,19 +2,20 @@
 
 PlayTest plays a simulated sequence into the node at real-time pace and compares its poses with
 `asynevo run` on the same events; MalformedTest sends one message of each malformed kind and checks that
-each is counted and skipped while the node keeps running. Every process started here (master, node,
+each is counted and skipped while the node keeps running; CameraInfoTest gives the node its calibration
+on the camera_info topic. One class per process (ctest runs each alone): rospy joins one master only. Every process started here (master, node,
 publisher) is stopped in the test's cleanup, whatever happens.
 
 Environment (set by tests/ros/CMakeLists.txt): ASYNEVO_ROS_NODE, ASYNEVO_ROS_PUBLISHER, ASYNEVO_ROS_WORK
-(the fixtures' folder: sim_boxes/ and cli_run/).
+(the fixtures' folder: sim_boxes/ and cli_run/; each test's logs go to logs/<class>.<test>/ there).
 """
 import json
 import math
 import os
+import shutil
 import signal
 import socket
 import subprocess
-import tempfile
 import threading
 import time
 import unittest
@@ -53,10 +54,14 @@ class RosGraph(unittest.TestCase):
     """A master on 127.0.0.1 at a free port, the node, and this process as a rospy subscriber."""
 
     def setUp(self):
-        self.tmp = tempfile.mkdtemp(prefix="asynevo_ros_")
+        # Logs of the master, the node and the publisher: kept in the build folder until the next run.
+        self.tmp = os.path.join(WORK, "logs", f"{type(self).__name__}.{self._testMethodName}")
+        shutil.rmtree(self.tmp, ignore_errors=True)
+        os.makedirs(self.tmp)
         port = free_port()
         self.env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1",
-                        ROS_HOSTNAME="127.0.0.1", ROS_HOME=self.tmp, ROS_LOG_DIR=self.tmp)
+                        ROS_HOSTNAME="127.0.0.1", ROS_HOME=self.tmp, ROS_LOG_DIR=self.tmp,
+                        ROSCONSOLE_STDOUT_LINE_BUFFERED="1")  # the node's log lines as they come
         os.environ.update({k: self.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOSTNAME", "ROS_HOME",
                                                      "ROS_LOG_DIR")})
         self.master = self.start(["rosmaster", "--core", "-p", str(port)], "master")
@@ -231,6 +236,32 @@ class MalformedTest(RosGraph):
         self.node.wait(20)
         self.assertEqual(self.node.returncode, 2)
         self.assertIn("no calibration: set /asynevo/calib", self.log("node"))
+
+
+class CameraInfoTest(RosGraph):
+    def test_calibration_from_camera_info(self):
+        import rospy
+        from sensor_msgs.msg import CameraInfo
+        self.start_node("_use_camera_info:=true")
+        self.subscribe()
+        pub = rospy.Publisher("/camera_info", CameraInfo, queue_size=10, latch=True)
+        wait_for(lambda: pub.get_num_connections() > 0, 15, "the node to subscribe to /camera_info")
+        info = CameraInfo(width=240, height=180, distortion_model="plumb_bob")
+        pub.publish(info)  # K all zero: ROS's uncalibrated camera, rejected
+        wait_for(lambda: (self.stats() or {}).get("camera_info_rejected") == 1, 10, "the rejected camera info")
+        # The DAVIS240C calibration of the ECD (tests/data/ecd/*/calib.txt).
+        info.K = [199.092366542, 0, 132.192071378, 0, 198.82882047, 110.712660011, 0, 0, 1]
+        info.D = [-0.368436311798, 0.150947243557, -0.000296130534385, -0.000759431726241, 0]
+        pub.publish(info)
+        wait_for(lambda: "240x180 camera from the camera_info topic /camera_info" in self.log("node"), 10,
+                 "the node to take the calibration")
+        self.assertIn("fx 199.09 fy 198.83 cx 132.19 cy 110.71", self.log("node"))
+        out = self.run_publisher("malformed")
+        self.assertIn("published 9 messages", out)
+        wait_for(lambda: (self.stats() or {}).get("messages_received") == 9, 20, "the node to receive 9 messages")
+        self.assertEqual(self.stats()["messages_accepted"], 2)
+        self.assertEqual(self.stats()["before_calibration"], 0)
+        self.stop_node()
 
 
 if __name__ == "__main__":
