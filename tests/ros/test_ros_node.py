@@ -264,5 +264,30 @@ class CameraInfoTest(RosGraph):
         self.stop_node()
 
 
+class LaunchTest(RosGraph):
+    def test_launch_file_and_a_bag_written_by_ros(self):
+        """The launch file of docs/guide/ros.md, and `rosbag play` of a bag ROS's own writer made: the bag's
+        dvs_msgs/EventArray connection (type, MD5 sum) is accepted by the node's subscription."""
+        self.env["ROS_PACKAGE_PATH"] = os.path.dirname(NODE)  # the build's package.xml: package "asynevo"
+        self.env["ROSCONSOLE_STDOUT_LINE_BUFFERED"] = "1"
+        calib = os.path.join(SOURCE, "tests/data/ecd/shapes_rotation/calib.txt")
+        launch = self.start(["roslaunch", os.path.join(SOURCE, "apps/asynevo_ros/launch/asynevo.launch"),
+                             "calib:=" + calib, "config:=" + os.path.join(SOURCE, "config/ecd.yaml")], "node")
+        self.subscribe()
+        wait_for(lambda: "events from /dvs/events" in self.log("node"), 20, "the launched node")
+        # tests/data/rosbag/dvs_lz4.bag (tests/data/SOURCES.md): 350 events on /dvs/events in messages of
+        # 100, 0 and 250 events, 240x180.
+        self.start(["rosbag", "play", "--quiet", os.path.join(SOURCE, "tests/data/rosbag/dvs_lz4.bag")], "rosbag")
+        wait_for(lambda: (self.stats() or {}).get("messages_received") == 3, 20, "the bag's 3 event messages")
+        wait_for(lambda: (self.stats() or {}).get("events_processed") == 350, 10, "the bag's 350 events")
+        s = self.stats()
+        self.assertEqual(s["messages_accepted"], 2)
+        self.assertEqual(s["skipped"]["empty"], 1)
+        self.assertEqual(s["skipped_total"], 1)
+        launch.send_signal(signal.SIGINT)
+        launch.wait(30)
+        self.assertIn("asynevo: finished:", self.log("node"))
+
+
 if __name__ == "__main__":
     unittest.main()
