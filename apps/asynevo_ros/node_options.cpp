@@ -14,6 +14,7 @@ NodeOptions readNodeOptions(const ros::NodeHandle& nh) {
   nh.param("sensor", o.sensor, o.sensor);
   nh.param("use_camera_info", o.use_camera_info, o.use_camera_info);
   nh.param("backend", o.backend, o.backend);
+  nh.param("realtime", o.realtime, o.realtime);
   nh.param("world_frame", o.world_frame, o.world_frame);
   nh.param("camera_frame", o.camera_frame, o.camera_frame);
   nh.param("publish_tf", o.publish_tf, o.publish_tf);

@@ -13,6 +13,7 @@ struct NodeOptions {
   std::string sensor;           ///< "WxH" for an ECD calib.txt (else the config's sensor block, else 240x180)
   bool use_camera_info = false; ///< take the calibration from the first sensor_msgs/CameraInfo on camera_info
   std::string backend = "window";
+  bool realtime = false;        ///< the estimator's wall-time cap of `asynevo run --realtime` (non-deterministic)
   std::string world_frame = "world";
   std::string camera_frame = "camera";
   bool publish_tf = true;

@@ -5,22 +5,46 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include <algorithm>
+#include <optional>
 #include <utility>
 
+#include "asynevo/backend/sliding_window_estimator.hpp"
 #include "asynevo/core/error.hpp"
 #include "asynevo/io/calibration_io.hpp"
 #include "asynevo/io/camera_info.hpp"
 #include "asynevo/io/sensor_size.hpp"
+#include "asynevo/pipeline/run.hpp"
 #include "pose_messages.hpp"
 
 namespace asynevo::ros_node {
 
+/// Runs in the estimator's thread, in the pipeline's order: before each time marker the estimator's state
+/// is that after the previous one, so its newest knot can be read without a lock.
+class OdometryNode::Output final : public pipeline::PipelineOutput {
+ public:
+  Output(OdometryNode& node, const backend::Estimator& estimator)
+      : node_(node), window_(dynamic_cast<const backend::SlidingWindowEstimator*>(&estimator)) {}
+
+  void onMarker(int64_t t_ns) override {
+    node_.markerDone(t_ns);
+    if (window_ == nullptr || !window_->tracking() || window_->trajectory().empty()) return;
+    const backend::Knot& newest = window_->trajectory().knots().rbegin()->second;
+    if (newest.t_ns <= newest_published_t_ns_) return;
+    newest_published_t_ns_ = newest.t_ns;
+    node_.publishNewest(newest);
+  }
+  void onFinalKnots(const std::vector<backend::Knot>& knots) override { node_.publishFinal(knots); }
+
+ private:
+  OdometryNode& node_;
+  const backend::SlidingWindowEstimator* window_;  // nullptr for the full-history baselines
+  int64_t newest_published_t_ns_ = -1;
+};
+
 namespace {
 
-constexpr int64_t kSliceNs = 1000000;  // the feed's marker period: a knot is added at most once per slice
-
-double secondsSince(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+double secondsSince(LiveEventReader::Clock::time_point t) {
+  return std::chrono::duration<double>(LiveEventReader::Clock::now() - t).count();
 }
 
 }  // namespace
@@ -28,6 +52,11 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
 OdometryNode::OdometryNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, NodeOptions options)
     : options_(std::move(options)) {
   config_ = options_.config.empty() ? Config() : loadConfig(options_.config);
+  odometry_pub_ = private_nh.advertise<nav_msgs::Odometry>("odometry", 100);
+  pose_pub_ = private_nh.advertise<geometry_msgs::PoseStamped>("pose", 100);
+  pose_final_pub_ = private_nh.advertise<geometry_msgs::PoseStamped>("pose_final", 1000);
+  stats_pub_ = private_nh.advertise<std_msgs::String>("stats", 10, true);
+  if (options_.publish_tf) tf_pub_ = nh.advertise<tf2_msgs::TFMessage>("/tf", 100);
   if (!options_.use_camera_info) {
     int w = config_.sensor.width, h = config_.sensor.height;
     if (!options_.sensor.empty()) {
@@ -35,15 +64,8 @@ OdometryNode::OdometryNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, Nod
       w = size.width;
       h = size.height;
     }
-    startFeed(readCalibration(options_.calib, w, h), options_.calib);
-  }
-  odometry_pub_ = private_nh.advertise<nav_msgs::Odometry>("odometry", 100);
-  pose_pub_ = private_nh.advertise<geometry_msgs::PoseStamped>("pose", 100);
-  pose_final_pub_ = private_nh.advertise<geometry_msgs::PoseStamped>("pose_final", 1000);
-  stats_pub_ = private_nh.advertise<std_msgs::String>("stats", 10, true);
-  if (options_.publish_tf) tf_pub_ = nh.advertise<tf2_msgs::TFMessage>("/tf", 100);
-  worker_ = std::thread([this] { work(); });
-  if (options_.use_camera_info) {
+    startPipeline(readCalibration(options_.calib, w, h), options_.calib);
+  } else {
     camera_info_sub_ = nh.subscribe("camera_info", 10, &OdometryNode::onCameraInfo, this);
     ROS_INFO("asynevo: waiting for the calibration on %s", camera_info_sub_.getTopic().c_str());
   }
@@ -63,26 +85,57 @@ OdometryNode::~OdometryNode() {
     std::lock_guard<std::mutex> lock(mutex_);
     stopping_ = true;
   }
-  wake_.notify_all();
+  if (reader_) reader_->close();
   if (worker_.joinable()) worker_.join();
 }
 
-void OdometryNode::startFeed(const CameraModel& camera, const std::string& origin) {
-  const std::optional<pipeline::BackendKind> kind = pipeline::parseBackendKind(options_.backend);
-  auto feed = std::make_unique<pipeline::EventFeed>(config_, camera, *kind);
+void OdometryNode::startPipeline(const CameraModel& camera, const std::string& origin) {
+  Config config = config_;
+  config.sensor.width = camera.width();
+  config.sensor.height = camera.height();
+  config.validate();
+  config.validateForSensor();
+  auto fe = std::make_unique<frontend::Frontend>(config.frontend, camera.width(), camera.height(),
+                                                 camera.undistortionTable<float>());
+  auto estimator = pipeline::makeEstimator(*pipeline::parseBackendKind(options_.backend), config, camera, *fe,
+                                           options_.realtime);
   std::lock_guard<std::mutex> lock(mutex_);
-  feed_ = std::move(feed);
-  calibration_origin_ = origin;
+  if (stopping_ || reader_) return;
+  reader_ = std::make_unique<LiveEventReader>(camera.width(), camera.height(),
+                                              static_cast<uint64_t>(options_.max_queue_events));
+  frontend_ = std::move(fe);
+  estimator_ = std::move(estimator);
+  output_ = std::make_unique<Output>(*this, *estimator_);
   stream_.width = camera.width();
   stream_.height = camera.height();
-  ROS_INFO("asynevo: %dx%d camera from %s, fx %.2f fy %.2f cx %.2f cy %.2f, backend %s", camera.width(),
-           camera.height(), origin.c_str(), camera.fx(), camera.fy(), camera.cx(), camera.cy(), feed_->backendName());
+  worker_ = std::thread([this] { run(); });
+  ROS_INFO("asynevo: %dx%d camera from %s, fx %.2f fy %.2f cx %.2f cy %.2f, estimator %s", camera.width(),
+           camera.height(), origin.c_str(), camera.fx(), camera.fy(), camera.cx(), camera.cy(), estimator_->name());
+}
+
+void OdometryNode::run() {
+  try {
+    pipeline::Pipeline pipe(*reader_, *frontend_, *estimator_, *output_, pipeline::PipelineOptions{});
+    const pipeline::PipelineStats stats = pipe.run([this](const pipeline::PipelineProgress& p) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      progress_.events_processed = p.events;
+      progress_.backend_behind_s = static_cast<double>(p.lag_ns) * 1e-9;
+      features_ = frontend_->stats().features_created;
+    });
+    std::lock_guard<std::mutex> lock(mutex_);
+    pipeline_stats_ = stats;
+  } catch (const std::exception& e) {  // the node stays up (and says so) rather than dying with the stream
+    ROS_ERROR("asynevo: the pipeline stopped: %s; further event messages are dropped", e.what());
+    reader_->close();
+    std::lock_guard<std::mutex> lock(mutex_);
+    failed_ = true;
+  }
 }
 
 void OdometryNode::onCameraInfo(const sensor_msgs::CameraInfo::ConstPtr& msg) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (feed_) return;
+    if (reader_ || stopping_) return;
   }
   CameraInfoFields info;
   info.width = msg->width;
@@ -91,7 +144,7 @@ void OdometryNode::onCameraInfo(const sensor_msgs::CameraInfo::ConstPtr& msg) {
   info.d = msg->D;
   std::copy(msg->K.begin(), msg->K.end(), info.k.begin());
   try {
-    startFeed(cameraFromCameraInfo(info), "the camera_info topic " + camera_info_sub_.getTopic());
+    startPipeline(cameraFromCameraInfo(info), "the camera_info topic " + camera_info_sub_.getTopic());
     camera_info_sub_.shutdown();
   } catch (const Error& e) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -102,14 +155,18 @@ void OdometryNode::onCameraInfo(const sensor_msgs::CameraInfo::ConstPtr& msg) {
 }
 
 void OdometryNode::onEvents(const dvs_msgs::EventArray::ConstPtr& msg) {
-  const auto arrived = std::chrono::steady_clock::now();
+  const auto arrived = LiveEventReader::Clock::now();
   std::unique_lock<std::mutex> lock(mutex_);
   ++messages_received_;
   events_received_ += msg->events.size();
   if (stopping_) return;
-  if (!feed_) {
+  if (!reader_) {
     if (++before_calibration_ == 1)
       ROS_WARN("asynevo: event messages arrive before the calibration (camera_info): skipped until it comes");
+    return;
+  }
+  if (failed_) {
+    ++dropped_failed_;
     return;
   }
   const StreamState state = stream_;
@@ -128,93 +185,52 @@ void OdometryNode::onEvents(const dvs_msgs::EventArray::ConstPtr& msg) {
     }
     return;
   }
-  if (queued_events_ + r.events.size() > static_cast<uint64_t>(options_.max_queue_events)) {
+  const std::size_t count = r.events.size();
+  const int64_t last_t = r.events.back().t_ns;
+  if (!reader_->push(std::move(r.events), arrived)) {
     ++dropped_overload_;
-    dropped_overload_events_ += r.events.size();
+    dropped_overload_events_ += count;
     ROS_WARN_THROTTLE(5.0,
-                      "asynevo: the estimator is behind by %llu queued events (max_queue_events %d): dropped a "
+                      "asynevo: the pipeline is behind by %llu queued events (max_queue_events %d): dropped a "
                       "message of %zu events (%llu messages so far)",
-                      static_cast<unsigned long long>(queued_events_), options_.max_queue_events, r.events.size(),
+                      static_cast<unsigned long long>(reader_->queuedEvents()), options_.max_queue_events, count,
                       static_cast<unsigned long long>(dropped_overload_));
     return;
   }
   ++messages_accepted_;
   stream_.has_last = true;
-  stream_.last_t_ns = r.events.back().t_ns;
-  queued_events_ += r.events.size();
-  queue_.push_back(Batch{std::move(r.events), arrived});
-  lock.unlock();
-  wake_.notify_one();
+  stream_.last_t_ns = last_t;
 }
 
-void OdometryNode::work() {
-  for (;;) {
-    Batch batch;
-    {
-      std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
-      if (queue_.empty()) return;  // stopping, and the queue is processed
-      batch = std::move(queue_.front());
-      queue_.pop_front();
-    }
-    try {
-      process(batch);
-    } catch (const std::exception& e) {  // the estimator must not take the node down
-      ROS_ERROR("asynevo: processing a message failed: %s", e.what());
-    }
-    std::lock_guard<std::mutex> lock(mutex_);
-    queued_events_ -= batch.events.size();
-  }
-}
-
-void OdometryNode::process(const Batch& batch) {
-  const std::vector<Event>& ev = batch.events;
-  // Slices of at most one marker period, so that every knot the estimator adds is seen (and published)
-  // as the newest one.
-  std::size_t begin = 0;
-  while (begin < ev.size()) {
-    const int64_t slice_end = (ev[begin].t_ns / kSliceNs + 1) * kSliceNs;
-    std::size_t end = begin + 1;
-    while (end < ev.size() && ev[end].t_ns < slice_end) ++end;
-    feed_->push(ev.data() + begin, end - begin);
-    publishNewKnots();
-    begin = end;
-  }
-  const double lag = secondsSince(batch.arrived);
-  const frontend::FrontendStats& f = feed_->frontendStats();
+void OdometryNode::markerDone(int64_t t_ns) {
+  const std::optional<LiveEventReader::Clock::time_point> arrived = reader_->doneBefore(t_ns);
+  const bool initialized = estimator_->stats().initialized;
   std::lock_guard<std::mutex> lock(mutex_);
+  initialized_ = initialized;
+  if (!arrived) return;
+  const double lag = secondsSince(*arrived);
   Progress& p = progress_;
-  p.events_processed += ev.size();
-  p.last_processed_t_ns = ev.back().t_ns;
   p.lag_s = lag;
   p.max_lag_period_s = std::max(p.max_lag_period_s, lag);
   p.max_lag_s = std::max(p.max_lag_s, lag);
-  p.initialized = feed_->estimatorStats().initialized;
-  p.features = f.features_created;
-  p.frontend_dropped = f.dropped_out_of_sensor + f.dropped_time_reversal;
 }
 
-void OdometryNode::publishNewKnots() {
-  uint64_t newest = 0, finals = 0;
-  if (const std::optional<backend::Knot> k = feed_->newestKnot(); k && k->t_ns > newest_published_t_ns_) {
-    newest_published_t_ns_ = k->t_ns;
-    odometry_pub_.publish(odometryMessage(*k, options_.world_frame, options_.camera_frame));
-    pose_pub_.publish(poseMessage(*k, options_.world_frame));
-    if (options_.publish_tf) {
-      tf2_msgs::TFMessage tf;
-      tf.transforms.push_back(transformMessage(*k, options_.world_frame, options_.camera_frame));
-      tf_pub_.publish(tf);
-    }
-    newest = 1;
+void OdometryNode::publishNewest(const backend::Knot& knot) {
+  odometry_pub_.publish(odometryMessage(knot, options_.world_frame, options_.camera_frame));
+  pose_pub_.publish(poseMessage(knot, options_.world_frame));
+  if (options_.publish_tf) {
+    tf2_msgs::TFMessage tf;
+    tf.transforms.push_back(transformMessage(knot, options_.world_frame, options_.camera_frame));
+    tf_pub_.publish(tf);
   }
-  for (const backend::Knot& k : feed_->takeFinalKnots()) {
-    pose_final_pub_.publish(poseMessage(k, options_.world_frame));
-    ++finals;
-  }
-  if (newest + finals == 0) return;
   std::lock_guard<std::mutex> lock(mutex_);
-  progress_.knots_published += newest;
-  progress_.final_knots_published += finals;
+  ++progress_.knots_published;
+}
+
+void OdometryNode::publishFinal(const std::vector<backend::Knot>& knots) {
+  for (const backend::Knot& k : knots) pose_final_pub_.publish(poseMessage(k, options_.world_frame));
+  std::lock_guard<std::mutex> lock(mutex_);
+  progress_.final_knots_published += knots.size();
 }
 
 std::string OdometryNode::statsJson() {
@@ -227,15 +243,14 @@ std::string OdometryNode::statsJson() {
   const Progress& p = progress_;
   return fmt::format(
       "{{\"messages_received\": {}, \"messages_accepted\": {}, \"events_received\": {}, \"events_processed\": {}, "
-      "\"queued_events\": {}, \"lag_s\": {:.6f}, \"max_lag_s\": {:.6f}, \"event_time_behind_s\": {:.6f}, "
+      "\"queued_events\": {}, \"lag_s\": {:.6f}, \"max_lag_s\": {:.6f}, \"backend_behind_s\": {:.6f}, "
       "\"initialized\": {}, \"features\": {}, \"knots_published\": {}, \"final_knots_published\": {}, "
-      "\"frontend_dropped_events\": {}, \"before_calibration\": {}, \"camera_info_rejected\": {}, "
-      "\"dropped_overload\": {}, \"dropped_overload_events\": {}, \"skipped_total\": {}, \"skipped\": {{{}}}}}",
-      messages_received_, messages_accepted_, events_received_, p.events_processed, queued_events_, p.lag_s,
-      p.max_lag_s,
-      stream_.has_last && p.events_processed > 0 ? (stream_.last_t_ns - p.last_processed_t_ns) * 1e-9 : 0.0,
-      p.initialized ? "true" : "false", p.features, p.knots_published, p.final_knots_published, p.frontend_dropped,
-      before_calibration_, camera_info_rejected_, dropped_overload_, dropped_overload_events_, skipped_total, skipped);
+      "\"before_calibration\": {}, \"camera_info_rejected\": {}, \"dropped_overload\": {}, "
+      "\"dropped_overload_events\": {}, \"dropped_after_failure\": {}, \"skipped_total\": {}, \"skipped\": {{{}}}}}",
+      messages_received_, messages_accepted_, events_received_, p.events_processed,
+      reader_ ? reader_->queuedEvents() : 0, p.lag_s, p.max_lag_s, p.backend_behind_s, initialized_ ? "true" : "false",
+      features_, p.knots_published, p.final_knots_published, before_calibration_, camera_info_rejected_,
+      dropped_overload_, dropped_overload_events_, dropped_failed_, skipped_total, skipped);
 }
 
 void OdometryNode::onStatsTimer(const ros::WallTimerEvent&) {
@@ -243,47 +258,42 @@ void OdometryNode::onStatsTimer(const ros::WallTimerEvent&) {
   std::lock_guard<std::mutex> lock(mutex_);
   msg.data = statsJson();
   stats_pub_.publish(msg);
-  Progress& p = progress_;
+  const uint64_t queued = reader_ ? reader_->queuedEvents() : 0;
   // A line while messages arrive or wait; none while the stream is idle.
-  if (messages_received_ == logged_messages_ && queued_events_ == 0) return;
+  if (messages_received_ == logged_messages_ && queued == 0) return;
   logged_messages_ = messages_received_;
   uint64_t skipped_total = 0;
   for (uint64_t n : skipped_) skipped_total += n;
-  ROS_INFO("asynevo: %llu events processed, %llu queued; backend lag %.3f s (max %.3f s in the last %.1f s); "
-           "%s, %llu knots; %llu messages skipped, %llu dropped (overload)",
-           static_cast<unsigned long long>(p.events_processed), static_cast<unsigned long long>(queued_events_),
-           p.lag_s, p.max_lag_period_s, options_.stats_period_s, p.initialized ? "tracking" : "initializing",
-           static_cast<unsigned long long>(p.knots_published), static_cast<unsigned long long>(skipped_total),
-           static_cast<unsigned long long>(dropped_overload_));
+  Progress& p = progress_;
+  ROS_INFO("asynevo: %llu events processed, %llu queued; lag %.3f s (max %.3f s in the last %.1f s), estimator "
+           "%.3f s of event time behind; %s, %llu knots; %llu messages skipped, %llu dropped (overload)",
+           static_cast<unsigned long long>(p.events_processed), static_cast<unsigned long long>(queued), p.lag_s,
+           p.max_lag_period_s, options_.stats_period_s, p.backend_behind_s,
+           initialized_ ? "initialized" : "initializing", static_cast<unsigned long long>(p.knots_published),
+           static_cast<unsigned long long>(skipped_total), static_cast<unsigned long long>(dropped_overload_));
   p.max_lag_period_s = 0;
 }
 
 void OdometryNode::finish() {
   events_sub_.shutdown();
+  camera_info_sub_.shutdown();
   stats_timer_.stop();
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stopping_ = true;
   }
-  wake_.notify_all();
-  if (worker_.joinable()) worker_.join();  // processes what is queued first
-  if (feed_) {
-    try {
-      feed_->finish();
-      publishNewKnots();
-    } catch (const std::exception& e) {
-      ROS_ERROR("asynevo: the final solve failed: %s", e.what());
-    }
-  }
-  logSummary();
-}
-
-void OdometryNode::logSummary() {
+  if (reader_) reader_->close();           // the pipeline processes what is queued, then finishes
+  if (worker_.joinable()) worker_.join();  // the estimator's last solve and final knots are published
   std_msgs::String msg;
   std::lock_guard<std::mutex> lock(mutex_);
   msg.data = statsJson();
   stats_pub_.publish(msg);
   ROS_INFO("asynevo: finished: %s", msg.data.c_str());
+  if (pipeline_stats_.events > 0)
+    ROS_INFO("asynevo: pipeline: %llu events over %.3f s of event time; the estimator was busy %.2f s and at most "
+             "%.3f s of event time behind the frontend",
+             static_cast<unsigned long long>(pipeline_stats_.events), pipeline_stats_.spanSeconds(),
+             pipeline_stats_.backend_busy_seconds, pipeline_stats_.max_lag_ns * 1e-9);
 }
 
 }  // namespace asynevo::ros_node
