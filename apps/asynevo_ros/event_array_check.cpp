@@ -6,15 +6,24 @@ namespace asynevo::ros_node {
 
 const char* skipReasonName(SkipReason reason) {
   switch (reason) {
-    case SkipReason::kNone: return "none";
-    case SkipReason::kDecodeError: return "decode_error";
-    case SkipReason::kEmpty: return "empty";
-    case SkipReason::kSizeMismatch: return "size_mismatch";
-    case SkipReason::kOutOfSensor: return "out_of_sensor";
-    case SkipReason::kBadTime: return "bad_time";
-    case SkipReason::kUnsorted: return "unsorted";
-    case SkipReason::kTimeBackwards: return "time_backwards";
-    case SkipReason::kCount: break;
+    case SkipReason::kNone:
+      return "none";
+    case SkipReason::kDecodeError:
+      return "decode_error";
+    case SkipReason::kEmpty:
+      return "empty";
+    case SkipReason::kSizeMismatch:
+      return "size_mismatch";
+    case SkipReason::kOutOfSensor:
+      return "out_of_sensor";
+    case SkipReason::kBadTime:
+      return "bad_time";
+    case SkipReason::kUnsorted:
+      return "unsorted";
+    case SkipReason::kTimeBackwards:
+      return "time_backwards";
+    case SkipReason::kCount:
+      break;
   }
   return "?";
 }
@@ -34,8 +43,8 @@ CheckResult checkEventArray(const dvs_msgs::EventArray& msg, const StreamState& 
   if (!msg.decode_error.empty()) return skip(SkipReason::kDecodeError, msg.decode_error);
   if (msg.events.empty()) return skip(SkipReason::kEmpty, "the message has no events");
   const bool states_size = msg.width != 0 || msg.height != 0;
-  if (states_size && (msg.width != static_cast<uint32_t>(state.width) ||
-                      msg.height != static_cast<uint32_t>(state.height)))
+  if (states_size &&
+      (msg.width != static_cast<uint32_t>(state.width) || msg.height != static_cast<uint32_t>(state.height)))
     return skip(SkipReason::kSizeMismatch,
                 fmt::format("the message is for a {}x{} sensor but the calibration is {}x{}", msg.width,
                             msg.height, state.width, state.height));
@@ -46,18 +55,21 @@ CheckResult checkEventArray(const dvs_msgs::EventArray& msg, const StreamState& 
   for (std::size_t i = 0; i < msg.events.size(); ++i) {
     const dvs_msgs::Event& in = msg.events[i];
     if (in.x >= state.width || in.y >= state.height)
-      return skip(SkipReason::kOutOfSensor, fmt::format("event {} at pixel ({}, {}) is outside the {}x{} sensor", i,
-                                                        in.x, in.y, state.width, state.height));
+      return skip(SkipReason::kOutOfSensor,
+                  fmt::format("event {} at pixel ({}, {}) is outside the {}x{} sensor", i, in.x, in.y,
+                              state.width, state.height));
     if (in.ts.nsec >= 1000000000u)
-      return skip(SkipReason::kBadTime, fmt::format("event {} has a nanosecond field of {} (>= 10^9)", i, in.ts.nsec));
+      return skip(SkipReason::kBadTime,
+                  fmt::format("event {} has a nanosecond field of {} (>= 10^9)", i, in.ts.nsec));
     const int64_t t = static_cast<int64_t>(in.ts.sec) * 1000000000 + static_cast<int64_t>(in.ts.nsec);
     if (has_previous && t < previous) {
       if (i == 0)
         return skip(SkipReason::kTimeBackwards,
-                    fmt::format("the first event (t = {} ns) is {:.6f} s earlier than the last accepted one", t,
-                                (previous - t) * 1e-9));
-      return skip(SkipReason::kUnsorted, fmt::format("event {} (t = {} ns) is earlier than event {} (t = {} ns)", i,
-                                                     t, i - 1, previous));
+                    fmt::format("the first event (t = {} ns) is {:.6f} s earlier than the last accepted one",
+                                t, (previous - t) * 1e-9));
+      return skip(
+          SkipReason::kUnsorted,
+          fmt::format("event {} (t = {} ns) is earlier than event {} (t = {} ns)", i, t, i - 1, previous));
     }
     previous = t;
     has_previous = true;

@@ -24,19 +24,23 @@ NodeOptions readNodeOptions(const ros::NodeHandle& nh) {
 
   const std::string ns = nh.getNamespace();
   if (o.use_camera_info && !o.calib.empty())
-    throw ConfigError(fmt::format("{}/calib and {}/use_camera_info are both set: choose one calibration source", ns, ns));
+    throw ConfigError(
+        fmt::format("{}/calib and {}/use_camera_info are both set: choose one calibration source", ns, ns));
   if (!o.use_camera_info && o.calib.empty())
-    throw ConfigError(fmt::format("no calibration: set {}/calib to a calib.txt or Kalibr camchain, or "
-                                  "{}/use_camera_info to true to read the camera_info topic",
-                                  ns, ns));
+    throw ConfigError(
+        fmt::format("no calibration: set {}/calib to a calib.txt or Kalibr camchain, or "
+                    "{}/use_camera_info to true to read the camera_info topic",
+                    ns, ns));
   if (!pipeline::parseBackendKind(o.backend))
-    throw ConfigError(fmt::format("{}/backend '{}' is not window, incremental or incremental-frozen", ns, o.backend));
+    throw ConfigError(
+        fmt::format("{}/backend '{}' is not window, incremental or incremental-frozen", ns, o.backend));
   if (o.max_queue_events <= 0)
     throw ConfigError(fmt::format("{}/max_queue_events is {}; it must be positive", ns, o.max_queue_events));
   if (o.subscriber_queue <= 0)
     throw ConfigError(fmt::format("{}/subscriber_queue is {}; it must be positive", ns, o.subscriber_queue));
   if (o.stats_period_s < 0)
-    throw ConfigError(fmt::format("{}/stats_period is {}; it must be 0 (off) or positive", ns, o.stats_period_s));
+    throw ConfigError(
+        fmt::format("{}/stats_period is {}; it must be 0 (off) or positive", ns, o.stats_period_s));
   if (o.world_frame.empty() || o.camera_frame.empty() || o.world_frame == o.camera_frame)
     throw ConfigError(fmt::format("{}/world_frame '{}' and {}/camera_frame '{}' must be set and differ", ns,
                                   o.world_frame, ns, o.camera_frame));

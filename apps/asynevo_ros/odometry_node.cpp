@@ -69,10 +69,11 @@ OdometryNode::OdometryNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, Nod
     camera_info_sub_ = nh.subscribe("camera_info", 10, &OdometryNode::onCameraInfo, this);
     ROS_INFO("asynevo: waiting for the calibration on %s", camera_info_sub_.getTopic().c_str());
   }
-  events_sub_ = nh.subscribe("events", static_cast<uint32_t>(options_.subscriber_queue), &OdometryNode::onEvents,
-                             this, ros::TransportHints().tcpNoDelay());
+  events_sub_ = nh.subscribe("events", static_cast<uint32_t>(options_.subscriber_queue),
+                             &OdometryNode::onEvents, this, ros::TransportHints().tcpNoDelay());
   if (options_.stats_period_s > 0)
-    stats_timer_ = nh.createWallTimer(ros::WallDuration(options_.stats_period_s), &OdometryNode::onStatsTimer, this);
+    stats_timer_ =
+        nh.createWallTimer(ros::WallDuration(options_.stats_period_s), &OdometryNode::onStatsTimer, this);
   const std::string tf =
       options_.publish_tf ? fmt::format(", TF {} -> {}", options_.world_frame, options_.camera_frame) : "";
   ROS_INFO("asynevo: events from %s, poses on %s, %s and %s%s", events_sub_.getTopic().c_str(),
@@ -110,7 +111,8 @@ void OdometryNode::startPipeline(const CameraModel& camera, const std::string& o
   stream_.height = camera.height();
   worker_ = std::thread([this] { run(); });
   ROS_INFO("asynevo: %dx%d camera from %s, fx %.2f fy %.2f cx %.2f cy %.2f, estimator %s", camera.width(),
-           camera.height(), origin.c_str(), camera.fx(), camera.fy(), camera.cx(), camera.cy(), estimator_->name());
+           camera.height(), origin.c_str(), camera.fx(), camera.fy(), camera.cx(), camera.cy(),
+           estimator_->name());
 }
 
 void OdometryNode::run() {
@@ -190,11 +192,12 @@ void OdometryNode::onEvents(const dvs_msgs::EventArray::ConstPtr& msg) {
   if (!reader_->push(std::move(r.events), arrived)) {
     ++dropped_overload_;
     dropped_overload_events_ += count;
-    ROS_WARN_THROTTLE(5.0,
-                      "asynevo: the pipeline is behind by %llu queued events (max_queue_events %d): dropped a "
-                      "message of %zu events (%llu messages so far)",
-                      static_cast<unsigned long long>(reader_->queuedEvents()), options_.max_queue_events, count,
-                      static_cast<unsigned long long>(dropped_overload_));
+    ROS_WARN_THROTTLE(
+        5.0,
+        "asynevo: the pipeline is behind by %llu queued events (max_queue_events %d): dropped a "
+        "message of %zu events (%llu messages so far)",
+        static_cast<unsigned long long>(reader_->queuedEvents()), options_.max_queue_events, count,
+        static_cast<unsigned long long>(dropped_overload_));
     return;
   }
   ++messages_accepted_;
@@ -237,20 +240,24 @@ std::string OdometryNode::statsJson() {
   std::string skipped;
   uint64_t skipped_total = 0;
   for (std::size_t i = 1; i < kSkipReasons; ++i) {
-    skipped += fmt::format("{}\"{}\": {}", i > 1 ? ", " : "", skipReasonName(static_cast<SkipReason>(i)), skipped_[i]);
+    skipped += fmt::format("{}\"{}\": {}", i > 1 ? ", " : "", skipReasonName(static_cast<SkipReason>(i)),
+                           skipped_[i]);
     skipped_total += skipped_[i];
   }
   const Progress& p = progress_;
   return fmt::format(
-      "{{\"messages_received\": {}, \"messages_accepted\": {}, \"events_received\": {}, \"events_processed\": {}, "
+      "{{\"messages_received\": {}, \"messages_accepted\": {}, \"events_received\": {}, "
+      "\"events_processed\": {}, "
       "\"queued_events\": {}, \"lag_s\": {:.6f}, \"max_lag_s\": {:.6f}, \"backend_behind_s\": {:.6f}, "
       "\"initialized\": {}, \"features\": {}, \"knots_published\": {}, \"final_knots_published\": {}, "
       "\"before_calibration\": {}, \"camera_info_rejected\": {}, \"dropped_overload\": {}, "
-      "\"dropped_overload_events\": {}, \"dropped_after_failure\": {}, \"skipped_total\": {}, \"skipped\": {{{}}}}}",
+      "\"dropped_overload_events\": {}, \"dropped_after_failure\": {}, \"skipped_total\": {}, \"skipped\": "
+      "{{{}}}}}",
       messages_received_, messages_accepted_, events_received_, p.events_processed,
-      reader_ ? reader_->queuedEvents() : 0, p.lag_s, p.max_lag_s, p.backend_behind_s, initialized_ ? "true" : "false",
-      features_, p.knots_published, p.final_knots_published, before_calibration_, camera_info_rejected_,
-      dropped_overload_, dropped_overload_events_, dropped_failed_, skipped_total, skipped);
+      reader_ ? reader_->queuedEvents() : 0, p.lag_s, p.max_lag_s, p.backend_behind_s,
+      initialized_ ? "true" : "false", features_, p.knots_published, p.final_knots_published,
+      before_calibration_, camera_info_rejected_, dropped_overload_, dropped_overload_events_,
+      dropped_failed_, skipped_total, skipped);
 }
 
 void OdometryNode::onStatsTimer(const ros::WallTimerEvent&) {
@@ -265,12 +272,13 @@ void OdometryNode::onStatsTimer(const ros::WallTimerEvent&) {
   uint64_t skipped_total = 0;
   for (uint64_t n : skipped_) skipped_total += n;
   Progress& p = progress_;
-  ROS_INFO("asynevo: %llu events processed, %llu queued; lag %.3f s (max %.3f s in the last %.1f s), estimator "
-           "%.3f s of event time behind; %s, %llu knots; %llu messages skipped, %llu dropped (overload)",
-           static_cast<unsigned long long>(p.events_processed), static_cast<unsigned long long>(queued), p.lag_s,
-           p.max_lag_period_s, options_.stats_period_s, p.backend_behind_s,
-           initialized_ ? "initialized" : "initializing", static_cast<unsigned long long>(p.knots_published),
-           static_cast<unsigned long long>(skipped_total), static_cast<unsigned long long>(dropped_overload_));
+  ROS_INFO(
+      "asynevo: %llu events processed, %llu queued; lag %.3f s (max %.3f s in the last %.1f s), estimator "
+      "%.3f s of event time behind; %s, %llu knots; %llu messages skipped, %llu dropped (overload)",
+      static_cast<unsigned long long>(p.events_processed), static_cast<unsigned long long>(queued), p.lag_s,
+      p.max_lag_period_s, options_.stats_period_s, p.backend_behind_s,
+      initialized_ ? "initialized" : "initializing", static_cast<unsigned long long>(p.knots_published),
+      static_cast<unsigned long long>(skipped_total), static_cast<unsigned long long>(dropped_overload_));
   p.max_lag_period_s = 0;
 }
 
@@ -290,10 +298,11 @@ void OdometryNode::finish() {
   stats_pub_.publish(msg);
   ROS_INFO("asynevo: finished: %s", msg.data.c_str());
   if (pipeline_stats_.events > 0)
-    ROS_INFO("asynevo: pipeline: %llu events over %.3f s of event time; the estimator was busy %.2f s and at most "
-             "%.3f s of event time behind the frontend",
-             static_cast<unsigned long long>(pipeline_stats_.events), pipeline_stats_.spanSeconds(),
-             pipeline_stats_.backend_busy_seconds, pipeline_stats_.max_lag_ns * 1e-9);
+    ROS_INFO(
+        "asynevo: pipeline: %llu events over %.3f s of event time; the estimator was busy %.2f s and at most "
+        "%.3f s of event time behind the frontend",
+        static_cast<unsigned long long>(pipeline_stats_.events), pipeline_stats_.spanSeconds(),
+        pipeline_stats_.backend_busy_seconds, pipeline_stats_.max_lag_ns * 1e-9);
 }
 
 }  // namespace asynevo::ros_node

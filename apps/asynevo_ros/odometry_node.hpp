@@ -53,7 +53,7 @@ class OdometryNode {
     double backend_behind_s = 0;    ///< event time the estimator is behind the frontend
     uint64_t knots_published = 0;
     uint64_t final_knots_published = 0;
-    double lag_s = 0;             ///< the newest message done: its arrival to the estimator passing its events
+    double lag_s = 0;  ///< the newest message done: its arrival to the estimator passing its events
     double max_lag_period_s = 0;  ///< the largest since the last log line
     double max_lag_s = 0;         ///< the largest since start
   };

@@ -1,13 +1,14 @@
 // dvs_msgs/EventArray as written by apps/asynevo_ros/include/dvs_msgs: the bytes on the wire (the layout
 // of rpg_dvs_ros's message, as docs/reference/formats_rosbag.md describes and our bag reader decodes), the
 // defensive decoding of bad bytes, and the node's message checks (event_array_check.hpp).
+#include "event_array_check.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <vector>
 
 #include "dvs_msgs/EventArray.h"
-#include "event_array_check.hpp"
 
 namespace asynevo::ros_node {
 namespace {

@@ -131,8 +131,8 @@ int play(ros::Publisher& pub, const std::string& dataset, double speed, double m
   }
   const double wall_s = (ros::WallTime::now() - wall0).toSec();
   ros::WallDuration(0.5).sleep();  // let the queue drain before the connection closes
-  std::printf("published %zu events in %zu messages over %.3f s (event span %.3f s)\n", events.size(), messages,
-              wall_s, (events.back().t_ns - t0) * 1e-9);
+  std::printf("published %zu events in %zu messages over %.3f s (event span %.3f s)\n", events.size(),
+              messages, wall_s, (events.back().t_ns - t0) * 1e-9);
   return 0;
 }
 
@@ -145,9 +145,9 @@ int malformed(ros::Publisher& pub) {
   const int64_t t0 = 1600000000LL * 1000000000LL;
   std::vector<asynevo::Event> events(200);
   for (int i = 0; i < 200; ++i)
-    events[static_cast<std::size_t>(i)] = asynevo::Event{t0 + i * 1000, static_cast<uint16_t>(10 + i % 200),
-                                                         static_cast<uint16_t>(20 + i % 150),
-                                                         static_cast<int8_t>(i % 2 ? 1 : -1)};
+    events[static_cast<std::size_t>(i)] =
+        asynevo::Event{t0 + i * 1000, static_cast<uint16_t>(10 + i % 200),
+                       static_cast<uint16_t>(20 + i % 150), static_cast<int8_t>(i % 2 ? 1 : -1)};
   uint32_t seq = 0;
   std::vector<std::string> sent;
   auto send = [&](const dvs_msgs::EventArray& m, const char* what) {
@@ -191,8 +191,10 @@ int malformed(ros::Publisher& pub) {
 int main(int argc, char** argv) {
   ros::init(argc, argv, "event_publisher", ros::init_options::AnonymousName);
   const std::vector<std::string> args(argv + 1, argv + argc);  // ROS remappings are removed by ros::init
-  if (args.empty() || (args[0] == "play" && args.size() < 2) || (args[0] != "play" && args[0] != "malformed")) {
-    std::fprintf(stderr, "usage: event_publisher play DATASET [SPEED] [MESSAGE_MS] | event_publisher malformed\n");
+  if (args.empty() || (args[0] == "play" && args.size() < 2) ||
+      (args[0] != "play" && args[0] != "malformed")) {
+    std::fprintf(stderr,
+                 "usage: event_publisher play DATASET [SPEED] [MESSAGE_MS] | event_publisher malformed\n");
     return 2;
   }
   ros::NodeHandle nh;
