@@ -61,15 +61,20 @@ CheckResult checkEventArray(const dvs_msgs::EventArray& msg, const StreamState& 
     if (in.ts.nsec >= 1000000000u)
       return skip(SkipReason::kBadTime,
                   fmt::format("event {} has a nanosecond field of {} (>= 10^9)", i, in.ts.nsec));
-    const int64_t t = static_cast<int64_t>(in.ts.sec) * 1000000000 + static_cast<int64_t>(in.ts.nsec);
+    int64_t t = static_cast<int64_t>(in.ts.sec) * 1000000000 + static_cast<int64_t>(in.ts.nsec);
     if (has_previous && t < previous) {
-      if (i == 0)
+      if (previous - t <= state.max_time_reversal_ns) {
+        t = previous;
+        ++r.clamped;
+      } else if (i == 0) {
         return skip(SkipReason::kTimeBackwards,
                     fmt::format("the first event (t = {} ns) is {:.6f} s earlier than the last accepted one",
-                                t, (previous - t) * 1e-9));
-      return skip(
-          SkipReason::kUnsorted,
-          fmt::format("event {} (t = {} ns) is earlier than event {} (t = {} ns)", i, t, i - 1, previous));
+                                t, static_cast<double>(previous - t) * 1e-9));
+      } else {
+        return skip(
+            SkipReason::kUnsorted,
+            fmt::format("event {} (t = {} ns) is earlier than event {} (t = {} ns)", i, t, i - 1, previous));
+      }
     }
     previous = t;
     has_previous = true;

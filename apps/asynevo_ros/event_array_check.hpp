@@ -35,6 +35,7 @@ struct CheckResult {
   SkipReason reason = SkipReason::kNone;
   std::string message;        ///< why it was skipped (empty when accepted)
   std::vector<Event> events;  ///< the converted events when accepted
+  uint64_t clamped = 0;       ///< events a little earlier than their predecessor, set to its time
 };
 
 /// The sensor and the stream's state the message is checked against.
@@ -43,10 +44,15 @@ struct StreamState {
   int height = 0;
   bool has_last = false;  ///< an event was accepted before
   int64_t last_t_ns = 0;  ///< the newest accepted event's time
+  /// An event earlier than its predecessor by at most this is clamped to the predecessor's time and counted,
+  /// as the file readers do (the configuration's input.max_time_reversal_us); a larger step back skips the
+  /// message.
+  int64_t max_time_reversal_ns = 0;
 };
 
 /// Checks `msg` against `state`. A message stating width and height 0 is accepted (some drivers leave the
-/// size out); any other size must equal the sensor's. Polarity: 0 is OFF, anything else ON.
+/// size out); any other size must equal the sensor's. Polarity: 0 is OFF, anything else ON. Time: see
+/// StreamState::max_time_reversal_ns.
 CheckResult checkEventArray(const dvs_msgs::EventArray& msg, const StreamState& state);
 
 /// Skip counters, one per reason.

@@ -5,6 +5,7 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <utility>
 
@@ -109,6 +110,7 @@ void OdometryNode::startPipeline(const CameraModel& camera, const std::string& o
   output_ = std::make_unique<Output>(*this, *estimator_);
   stream_.width = camera.width();
   stream_.height = camera.height();
+  stream_.max_time_reversal_ns = std::llround(config.input.max_time_reversal_us * 1e3);
   worker_ = std::thread([this] { run(); });
   ROS_INFO("asynevo: %dx%d camera from %s, fx %.2f fy %.2f cx %.2f cy %.2f, estimator %s", camera.width(),
            camera.height(), origin.c_str(), camera.fx(), camera.fy(), camera.cx(), camera.cy(),
@@ -188,6 +190,7 @@ void OdometryNode::onEvents(const dvs_msgs::EventArray::ConstPtr& msg) {
     return;
   }
   const std::size_t count = r.events.size();
+  const uint64_t clamped = r.clamped;
   const int64_t last_t = r.events.back().t_ns;
   if (!reader_->push(std::move(r.events), arrived)) {
     ++dropped_overload_;
@@ -201,6 +204,7 @@ void OdometryNode::onEvents(const dvs_msgs::EventArray::ConstPtr& msg) {
     return;
   }
   ++messages_accepted_;
+  clamped_times_ += clamped;
   stream_.has_last = true;
   stream_.last_t_ns = last_t;
 }
@@ -251,13 +255,13 @@ std::string OdometryNode::statsJson() {
       "\"queued_events\": {}, \"lag_s\": {:.6f}, \"max_lag_s\": {:.6f}, \"backend_behind_s\": {:.6f}, "
       "\"initialized\": {}, \"features\": {}, \"knots_published\": {}, \"final_knots_published\": {}, "
       "\"before_calibration\": {}, \"camera_info_rejected\": {}, \"dropped_overload\": {}, "
-      "\"dropped_overload_events\": {}, \"dropped_after_failure\": {}, \"skipped_total\": {}, \"skipped\": "
-      "{{{}}}}}",
+      "\"dropped_overload_events\": {}, \"dropped_after_failure\": {}, \"clamped_times\": {}, "
+      "\"skipped_total\": {}, \"skipped\": {{{}}}}}",
       messages_received_, messages_accepted_, events_received_, p.events_processed,
       reader_ ? reader_->queuedEvents() : 0, p.lag_s, p.max_lag_s, p.backend_behind_s,
       initialized_ ? "true" : "false", features_, p.knots_published, p.final_knots_published,
       before_calibration_, camera_info_rejected_, dropped_overload_, dropped_overload_events_,
-      dropped_failed_, skipped_total, skipped);
+      dropped_failed_, clamped_times_, skipped_total, skipped);
 }
 
 void OdometryNode::onStatsTimer(const ros::WallTimerEvent&) {

@@ -88,6 +88,7 @@ class OdometryNode {
   uint64_t messages_received_ = 0, messages_accepted_ = 0, events_received_ = 0;
   uint64_t before_calibration_ = 0, dropped_overload_ = 0, dropped_overload_events_ = 0, dropped_failed_ = 0;
   uint64_t camera_info_rejected_ = 0;
+  uint64_t clamped_times_ = 0;    // events set to their predecessor's time (input.max_time_reversal_us)
   uint64_t logged_messages_ = 0;  // messages_received_ at the last log line
   SkipCounters skipped_{};
   Progress progress_;

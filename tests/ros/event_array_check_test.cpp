@@ -179,5 +179,24 @@ TEST(CheckEventArray, TimeMustContinueFromTheLastAcceptedEvent) {
   EXPECT_STREQ(skipReasonName(r.reason), "time_backwards");
 }
 
+TEST(CheckEventArray, SmallStepsBackAreClampedWithinTheConfiguredTolerance) {
+  StreamState s = sensor240();
+  s.max_time_reversal_ns = 500;
+  dvs_msgs::EventArray m = sample();
+  m.events[1].ts = ros::Time(1600000000, 600);  // 400 ns before event 0: clamped to its time
+  CheckResult r = checkEventArray(m, s);
+  ASSERT_EQ(r.reason, SkipReason::kNone) << r.message;
+  EXPECT_EQ(r.clamped, 1u);
+  EXPECT_EQ(r.events[1].t_ns, r.events[0].t_ns);
+  m.events[1].ts = ros::Time(1600000000, 499);  // 501 ns before: beyond the tolerance
+  EXPECT_EQ(checkEventArray(m, s).reason, SkipReason::kUnsorted);
+  s.has_last = true;
+  s.last_t_ns = 1600000000LL * 1000000000LL + 1500;  // the message starts 500 ns earlier: clamped
+  r = checkEventArray(sample(), s);
+  ASSERT_EQ(r.reason, SkipReason::kNone) << r.message;
+  EXPECT_EQ(r.events[0].t_ns, s.last_t_ns);
+  EXPECT_EQ(r.clamped, 1u);
+}
+
 }  // namespace
 }  // namespace asynevo::ros_node
