@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
     spinner.start();
     while (ros::ok() && g_stop_requested == 0) ros::WallDuration(0.05).sleep();
     node.finish();
-    ros::WallDuration(0.2).sleep();  // let the last messages leave before the connections close
+    ros::WallDuration(0.5).sleep();  // let the last messages leave before the connections close
     spinner.stop();
   } catch (const asynevo::Error& e) {
     ROS_FATAL("asynevo: %s", e.what());
