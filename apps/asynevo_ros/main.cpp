@@ -33,9 +33,9 @@ int main(int argc, char** argv) {
     ros::AsyncSpinner spinner(1);
     spinner.start();
     while (ros::ok() && g_stop_requested == 0) ros::WallDuration(0.05).sleep();
+    spinner.stop();  // no callback runs while the node finishes
     node.finish();
     ros::WallDuration(0.5).sleep();  // let the last messages leave before the connections close
-    spinner.stop();
   } catch (const asynevo::Error& e) {
     ROS_FATAL("asynevo: %s", e.what());
     ros::shutdown();

@@ -223,6 +223,7 @@ void OdometryNode::markerDone(int64_t t_ns) {
 }
 
 void OdometryNode::publishNewest(const backend::Knot& knot) {
+  if (!ros::ok()) return;  // shut down through ROS (rosnode kill): the publishers are gone
   odometry_pub_.publish(odometryMessage(knot, options_.world_frame, options_.camera_frame));
   pose_pub_.publish(poseMessage(knot, options_.world_frame));
   if (options_.publish_tf) {
@@ -235,6 +236,7 @@ void OdometryNode::publishNewest(const backend::Knot& knot) {
 }
 
 void OdometryNode::publishFinal(const std::vector<backend::Knot>& knots) {
+  if (!ros::ok()) return;
   for (const backend::Knot& k : knots) pose_final_pub_.publish(poseMessage(k, options_.world_frame));
   std::lock_guard<std::mutex> lock(mutex_);
   progress_.final_knots_published += knots.size();
@@ -299,7 +301,7 @@ void OdometryNode::finish() {
   std_msgs::String msg;
   std::lock_guard<std::mutex> lock(mutex_);
   msg.data = statsJson();
-  stats_pub_.publish(msg);
+  if (ros::ok()) stats_pub_.publish(msg);
   ROS_INFO("asynevo: finished: %s", msg.data.c_str());
   if (pipeline_stats_.events > 0)
     ROS_INFO(
