@@ -91,8 +91,12 @@ class RosGraph(unittest.TestCase):
         with open(os.path.join(self.tmp, name + ".log")) as f:
             return f.read()
 
-    def start_node(self, *params):
+    def start_node(self, *params, wait=True):
         self.node = self.start([NODE, "events:=/dvs/events", "__name:=asynevo", "_stats_period:=0.2", *params], "node")
+        if wait:  # up and subscribed, or the test fails here with the node's log
+            wait_for(lambda: self.node.poll() is not None or "events from /dvs/events" in self.log("node"), 20,
+                     "the node to start")
+            self.assertIsNone(self.node.poll(), "the node exited:\n" + self.log("node"))
 
     def subscribe(self):
         import rospy
@@ -232,7 +236,7 @@ class MalformedTest(RosGraph):
         self.assertIn("pixel (240,", log)
 
     def test_no_calibration_is_a_clear_error(self):
-        self.start_node()
+        self.start_node(wait=False)
         self.node.wait(20)
         self.assertEqual(self.node.returncode, 2)
         self.assertIn("no calibration: set /asynevo/calib", self.log("node"))
