@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <utility>
 
@@ -302,13 +303,19 @@ void OdometryNode::finish() {
   std::lock_guard<std::mutex> lock(mutex_);
   msg.data = statsJson();
   if (ros::ok()) stats_pub_.publish(msg);
-  ROS_INFO("asynevo: finished: %s", msg.data.c_str());
+  std::string summary = "asynevo: finished: " + msg.data;
   if (pipeline_stats_.events > 0)
-    ROS_INFO(
-        "asynevo: pipeline: %llu events over %.3f s of event time; the estimator was busy %.2f s and at most "
-        "%.3f s of event time behind the frontend",
-        static_cast<unsigned long long>(pipeline_stats_.events), pipeline_stats_.spanSeconds(),
-        pipeline_stats_.backend_busy_seconds, pipeline_stats_.max_lag_ns * 1e-9);
+    summary += fmt::format(
+        "\nasynevo: pipeline: {} events over {:.3f} s of event time; the estimator was busy {:.2f} s and at "
+        "most "
+        "{:.3f} s of event time behind the frontend",
+        pipeline_stats_.events, pipeline_stats_.spanSeconds(), pipeline_stats_.backend_busy_seconds,
+        static_cast<double>(pipeline_stats_.max_lag_ns) * 1e-9);
+  if (ros::ok()) {
+    ROS_INFO("%s", summary.c_str());
+  } else {  // after a shutdown through ROS, rosconsole is shut down too
+    std::fprintf(stderr, "%s\n", summary.c_str());
+  }
 }
 
 }  // namespace asynevo::ros_node
