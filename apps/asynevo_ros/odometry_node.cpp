@@ -93,6 +93,11 @@ OdometryNode::~OdometryNode() {
 }
 
 void OdometryNode::startPipeline(const CameraModel& camera, const std::string& origin) {
+  if (config_.sensor.set_by_file &&
+      (config_.sensor.width != camera.width() || config_.sensor.height != camera.height()))
+    throw ConfigError(fmt::format(
+        "the configuration {} sets a {}x{} sensor but the calibration from {} is {}x{}", options_.config,
+        config_.sensor.width, config_.sensor.height, origin, camera.width(), camera.height()));
   Config config = config_;
   config.sensor.width = camera.width();
   config.sensor.height = camera.height();
