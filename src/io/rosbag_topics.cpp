@@ -31,6 +31,7 @@
 #include <stdexcept>
 
 #include "asynevo/core/error.hpp"
+#include "asynevo/io/camera_info.hpp"
 #include "asynevo/io/file_handle.hpp"
 #include "rosbag_reader.hpp"
 
@@ -337,40 +338,21 @@ std::optional<BagCalibration> readRosbagCalibration(const std::string& path) {
   m.header();
   const uint32_t height = m.u32("height");
   const uint32_t width = m.u32("width");
-  const std::string model = m.string("distortion_model");
+  CameraInfoFields info;
+  info.height = height;
+  info.width = width;
+  info.distortion_model = m.string("distortion_model");
   const uint32_t count = m.u32("the length of D");
   m.need(std::size_t{count} * 8, "D");
-  std::vector<double> d(count);
-  for (double& x : d) x = m.f64("D");
-  double k[9];
-  for (double& x : k) x = m.f64("K");
+  info.d.resize(count);
+  for (double& x : info.d) x = m.f64("D");
+  for (double& x : info.k) x = m.f64("K");
   m.skip((9 + 12) * 8, "R and P");
   m.skip(4 * 2 + 4 * 4 + 1, "binning and roi");
   m.end(kCameraInfo);
-  if (width == 0 || height == 0 || width > 65535 || height > 65535)
-    bag.failInMessage(fmt::format("the camera info states a {}x{} image", width, height));
-  if (k[0] == 0.0) bag.failInMessage("the camera is uncalibrated (K[0] is 0, ROS's mark of an uncalibrated camera)");
-  DistortionModel distortion = DistortionModel::kNone;
-  bool all_zero = true;
-  for (double x : d) all_zero = all_zero && x == 0.0;
-  if (d.empty() || all_zero) {
-    d.clear();
-  } else if (model == "plumb_bob") {
-    if (d.size() != 5 && d.size() != 4)
-      bag.failInMessage(fmt::format("distortion model plumb_bob with {} coefficients (k1 k2 p1 p2 k3: 5)", d.size()));
-    distortion = DistortionModel::kRadtan;
-  } else if (model == "equidistant") {
-    if (d.size() != 4)
-      bag.failInMessage(fmt::format("distortion model equidistant with {} coefficients (k1..k4: 4)", d.size()));
-    distortion = DistortionModel::kEquidistant;
-  } else {
-    bag.failInMessage("distortion model '" + model + "' is not read by AsynEVO (plumb_bob, equidistant)");
-  }
   try {
-    return BagCalibration{CameraModel(static_cast<int>(width), static_cast<int>(height), k[0], k[4], k[2], k[5],
-                                      distortion, d),
-                          bag.topic(), messages};
-  } catch (const std::invalid_argument& e) {
+    return BagCalibration{cameraFromCameraInfo(info), bag.topic(), messages};
+  } catch (const Error& e) {
     bag.failInMessage(e.what());
   }
 }
