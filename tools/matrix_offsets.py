@@ -10,7 +10,8 @@ half's median over the offsets shows how far one draw can be from it.
 
 Each RUNS_DIR holds SEQ/score.json (matrix-out/runs/SETTING). The first NAME is the reference; the
 others are compared with it sequence by sequence. A failed or missing run counts as infinitely bad,
-as in the matrix report. Standard library only.
+as in the matrix report. Lower is better, except for the metrics in HIGHER_IS_BETTER (coverage), where
+a failed run counts as minus infinity. Standard library only.
 """
 
 import argparse
@@ -21,6 +22,7 @@ import statistics
 import sys
 
 HALVES = (("tune", "tuning"), ("val", "validation"))
+HIGHER_IS_BETTER = {"coverage"}
 
 
 def read_score(path):
@@ -32,11 +34,13 @@ def read_score(path):
 
 
 def metric_of(score, metric):
-    """The metric of one run; inf for a failed, missing or unscored run."""
+    """The metric of one run; the worst value (inf, or -inf where higher is better) for a failed, missing
+    or unscored run."""
+    worst = -math.inf if metric in HIGHER_IS_BETTER else math.inf
     if not score or score.get("status") != "ok":
-        return math.inf
+        return worst
     v = score.get(metric)
-    return math.inf if v is None else float(v)
+    return worst if v is None else float(v)
 
 
 def load_setting(run_dirs, metric):
@@ -96,8 +100,9 @@ def main(argv=None):
             common = sorted(set(data) & set(ref))
             for half in sorted({half_of(s) for s in common}):
                 seqs = [s for s in common if half_of(s) == half]
-                better = sum(statistics.median(data[s]) < statistics.median(ref[s]) for s in seqs)
-                worse = sum(statistics.median(data[s]) > statistics.median(ref[s]) for s in seqs)
+                sign = -1 if args.metric in HIGHER_IS_BETTER else 1
+                better = sum(sign * statistics.median(data[s]) < sign * statistics.median(ref[s]) for s in seqs)
+                worse = sum(sign * statistics.median(data[s]) > sign * statistics.median(ref[s]) for s in seqs)
                 print("%-24s %-10s against %s: %d sequences better, %d worse (per-sequence medians)"
                       % (name, half, ref_name, better, worse))
         if args.sequences:

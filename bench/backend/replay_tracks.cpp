@@ -202,7 +202,9 @@ int main(int argc, char** argv) try {
   auto advance = [&](int64_t marker) {
     estimator->advanceTo(marker);
     const auto& st = estimator->stats();
-    if (!st.initialized && st.init_last_failure != last_failure) {
+    // Waiting for a start: before the first one, and after a segment has ended (tracking loss).
+    const bool waiting = st.segments.empty() || st.segments.back().ended_at_ns != 0;
+    if (waiting && st.init_last_failure != last_failure) {
       last_failure = st.init_last_failure;
       fmt::print("{:.3f} s: {}\n", marker * 1e-9, last_failure);
     }

@@ -22,11 +22,13 @@ def check(condition, what):
         failures.append(what)
 
 
-def write_runs(root, name, ates):
-    """ates: {sequence: ATE or None (a failed run)}."""
+def write_runs(root, name, ates, coverage=None):
+    """ates: {sequence: ATE or None (a failed run)}; coverage: {sequence: share} where given."""
     for seq, ate in ates.items():
         os.makedirs(os.path.join(root, name, seq))
         score = dict(status="failed", message="never started") if ate is None else dict(status="ok", ate_pct=ate)
+        if coverage and seq in coverage and ate is not None:
+            score["coverage"] = coverage[seq]
         with open(os.path.join(root, name, seq, "score.json"), "w") as f:
             json.dump(score, f)
 
@@ -56,5 +58,17 @@ with tempfile.TemporaryDirectory() as root:
     check("validation against ref: 1 sequences better, 1 worse" in text,
           "the comparison counts better and worse sequences")
     check("a-val" in text and "median 2.00" in text, "--sequences prints each sequence's median")
+
+    # Coverage: higher is better, and a failed run is the worst (no coverage at all).
+    write_runs(root, "cov_ref", {"a-val": 1.0, "b-val": 1.0, "c-val": 1.0}, {"a-val": 0.9, "b-val": 0.9, "c-val": 0.9})
+    write_runs(root, "cov_new", {"a-val": 1.0, "b-val": 1.0, "c-val": None}, {"a-val": 0.95, "b-val": 0.8})
+    cov = matrix_offsets.load_setting([os.path.join(root, "cov_new")], "coverage")
+    check(cov["c-val"] == [-math.inf], "coverage: a failed run counts as minus infinity")
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        matrix_offsets.main(["ref=" + os.path.join(root, "cov_ref"), "new=" + os.path.join(root, "cov_new"),
+                             "--metric", "coverage"])
+    check("validation against ref: 1 sequences better, 2 worse" in out.getvalue(),
+          "coverage: more is better (a-val), less and a failed run are worse (b-val, c-val)")
 
 sys.exit(1 if failures else 0)
