@@ -204,6 +204,11 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
     for (const auto& [id, track] : tracks_) count += track.triangulated;
     return count;
   };
+  // The two views' points, taken before the tracks lose what lies before the window (interpolating at
+  // t_a may need a measurement before it).
+  const bool two_view = std::string_view(motion.method) == "two-view";
+  const TwoViewPoints two_view_points =
+      options_.config.init_two_view_landmarks && two_view ? twoViewPoints(motion.t_a_ns, motion.t_b_ns) : TwoViewPoints{};
   for (auto& [id, track] : tracks_) track.dropBefore(trajectory_.oldestTime());
   int landmarks = retriangulate();
   // A multi-view start's features need not span the window, so its fit can pass with few of them able
@@ -213,6 +218,14 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   // Too few: the constant-twist knots may be off where the rotation rate changes within the window;
   // with init_refine_rotations their rotations are refitted to the tracks and the landmarks triangulated
   // again (docs/method/initialization.md, "First knots").
+  // Too few: the trajectories between the two views miss the constant-twist knots; the two views
+  // themselves are the five-point pose, so their correspondences make landmarks that the first solve
+  // then fits the knots to (init_two_view_landmarks).
+  if (landmarks < min_landmarks && !two_view_points.empty()) {
+    const int added = triangulateFromTwoViews(two_view_points, motion.t_a_ns, motion.t_b_ns);
+    if (added > 0) ++stats_.init_two_view_landmark_starts;
+    landmarks += added;
+  }
   if (landmarks < min_landmarks && options_.config.init_refine_rotations &&
       refineStartRotations(trajectory_, tracks_, options_.config.init_ransac_px / options_.focal_px).refined > 0) {
     ++stats_.init_rotation_refits;
@@ -276,6 +289,37 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   record.solve_ms = msSince(start);
   record.total_ms = record.solve_ms;
   records_.push_back(record);
+}
+
+SlidingWindowEstimator::TwoViewPoints SlidingWindowEstimator::twoViewPoints(int64_t t_a_ns, int64_t t_b_ns) const {
+  TwoViewPoints points;
+  for (const auto& [id, track] : tracks_) {
+    const auto a = track.pointAt(t_a_ns), b = track.pointAt(t_b_ns);
+    if (a && b) points[id] = {*a, *b};
+  }
+  return points;
+}
+
+int SlidingWindowEstimator::triangulateFromTwoViews(const TwoViewPoints& points, int64_t t_a_ns, int64_t t_b_ns) {
+  const BackendConfig& c = options_.config;
+  TriangulationOptions tri;
+  tri.min_parallax_deg = c.min_parallax_deg;
+  tri.max_error = normalizedThreshold(c.max_triangulation_px);
+  tri.min_depth = c.min_depth;
+  const lie::SE3 T_w_a = trajectory_.pose(t_a_ns), T_w_b = trajectory_.pose(t_b_ns);
+  int added = 0;
+  for (const auto& [id, ab] : points) {
+    const auto it = tracks_.find(id);
+    if (it == tracks_.end() || it->second.triangulated) continue;
+    FeatureTrack& track = it->second;
+    const TriangulationResult result = triangulate({{T_w_a, ab.first}, {T_w_b, ab.second}}, tri);
+    if (!result.p_w) continue;
+    track.triangulated = true;
+    Eigen::Map<Eigen::Vector3d>(track.p_w.data()) = *result.p_w;
+    ++stats_.landmarks_created;
+    ++added;
+  }
+  return added;
 }
 
 int SlidingWindowEstimator::retriangulateUntriangulated() {

@@ -56,6 +56,8 @@ struct EstimatorStats {
   uint64_t init_rotation_refits = 0;
   /// Starts whose first solve let more trajectories become landmarks (init_retriangulate).
   uint64_t init_retriangulations = 0;
+  /// Two-view starts that triangulated landmarks from their two views alone (init_two_view_landmarks).
+  uint64_t init_two_view_landmark_starts = 0;
   /// The two views the estimator started from (valid once initialized).
   struct InitViews {
     std::string method;      ///< "two-view" or "multi-view"

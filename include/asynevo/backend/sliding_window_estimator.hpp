@@ -100,6 +100,12 @@ class SlidingWindowEstimator : public Estimator {
   /// Tries every trajectory that is not a landmark again, against the knots as they are now (after the
   /// start's solve, init_retriangulate); returns how many became landmarks.
   int retriangulateUntriangulated();
+  /// Each trajectory's normalized points at both times of a two-view start, by feature id.
+  using TwoViewPoints = std::map<int64_t, std::pair<Eigen::Vector2d, Eigen::Vector2d>>;
+  TwoViewPoints twoViewPoints(int64_t t_a_ns, int64_t t_b_ns) const;
+  /// Landmarks from the two views of a two-view start alone (init_two_view_landmarks): the trajectories
+  /// not yet landmarks, triangulated from their points and the poses at t_a and t_b; returns how many.
+  int triangulateFromTwoViews(const TwoViewPoints& points, int64_t t_a_ns, int64_t t_b_ns);
   /// landmark_depth_range: depths in the newest knot's camera within a factor of the window
   /// landmarks' median depth. Admits everything when off or with fewer than 10 landmarks.
   struct DepthGate {

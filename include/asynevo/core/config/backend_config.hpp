@@ -83,6 +83,10 @@ struct BackendConfig {
   /// the solved knots (the constant-twist knots they failed against are degrees off where the motion
   /// changes within the window), and solve again when some did.
   bool init_retriangulate = true;
+  /// When a two-view start triangulates too few landmarks against its constant-twist knots, triangulate
+  /// the trajectories seen at both of its times from those two views alone (the five-point pose) and
+  /// let the first solve fit the knots to them.
+  bool init_two_view_landmarks = true;
 
   // --- tracking loss (docs/method/tracking_loss.md): the segment ends, the estimator starts again ---
   double loss_max_event_gap_ms = 250.0;  ///< a gap in the events longer than this ends the segment (0 = off)
@@ -138,6 +142,8 @@ struct BackendConfig {
       "initialization: refit the first knots' rotations to the tracks when too few landmarks triangulate");
     v("init_agreement_deg", init_agreement_deg,
       "initialization: a start needs the previous attempt's translation direction within this angle [deg] (0 = off)");
+    v("init_two_view_landmarks", init_two_view_landmarks,
+      "initialization: too few landmarks against the start's knots: triangulate from the start's two views alone");
     v("init_retriangulate", init_retriangulate,
       "initialization: after the start's solve, triangulate the remaining trajectories again and solve again");
     v("loss_max_event_gap_ms", loss_max_event_gap_ms,
