@@ -148,6 +148,7 @@ testing::EstimatorRun runRetriangulating(const SyntheticScene& scene, bool retri
   const auto ms = scene.measurements(3.0, 0.01, 0.4, 0.3);
   EstimatorOptions options = testing::syntheticSceneOptions();
   options.config.init_retriangulate = retriangulate;
+  options.config.init_relax_after_ms = 500;  // the wait these scenarios were measured with
   SlidingWindowEstimator estimator(options);
   return testing::driveEstimator(estimator, ms, 3.0);
 }
@@ -204,6 +205,7 @@ TEST(StartScenarios, AStartWithTooFewLandmarksAgainstItsKnotsTriangulatesFromIts
   const auto runWith = [&](bool two_view_landmarks) {
     EstimatorOptions options = testing::syntheticSceneOptions();
     options.config.init_two_view_landmarks = two_view_landmarks;
+    options.config.init_relax_after_ms = 500;  // the wait this scenario was measured with
     SlidingWindowEstimator estimator(options);
     return testing::driveEstimator(estimator, ms, 3.0);
   };

@@ -66,7 +66,7 @@ struct BackendConfig {
   /// After this much event time of failed attempts (from the first measurement), the feature and
   /// inlier counts are multiplied by init_relaxed_fraction: a scene whose features live too briefly
   /// for 30 at both ends still starts, and one that has them keeps the stricter start.
-  double init_relax_after_ms = 500.0;
+  double init_relax_after_ms = 250.0;
   double init_relaxed_fraction = 0.5;
   /// Which start is tried: "two-view" (two times, five-point RANSAC), "multi-view" (one constant twist
   /// fitted to every track of the window) or "both" (two-view first; once the counts are relaxed,
