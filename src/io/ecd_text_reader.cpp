@@ -38,7 +38,7 @@ bool parseInteger(const char* begin, const char* end, int64_t& value) {
 
 EcdTextReader::EcdTextReader(const std::string& path, const ReaderOptions& options)
     : file_(openFile(path, "rb")),
-      buffer_(kBufferBytes),
+      buffer_(readBufferBytes(path, kBufferBytes)),
       packet_size_(options.packet_size),
       checker_(1, 1, 0) {
   if (!file_) throw InputError(path, std::string("cannot open event file: ") + std::strerror(errno));

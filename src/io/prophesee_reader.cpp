@@ -275,7 +275,7 @@ std::string propheseeFormatFromHeader(const PropheseeHeader& header, const std::
 
 PropheseeReader::PropheseeReader(const std::string& path, const ReaderOptions& options, const char* format,
                                  int word_bytes)
-    : options_(options), file_(openFile(path, "rb")), chunk_(kChunkBytes), word_bytes_(word_bytes),
+    : options_(options), file_(openFile(path, "rb")), chunk_(readBufferBytes(path, kChunkBytes)), word_bytes_(word_bytes),
       format_label_(formatLabel(format)) {
   if (!file_) throw InputError(path, std::string("cannot open event file: ") + std::strerror(errno));
   info_.path = path;
