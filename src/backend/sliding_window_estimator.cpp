@@ -200,9 +200,7 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
       track.observations_at_last_attempt = 0;
     }
     triangulateTracks();
-    int count = 0;
-    for (const auto& [id, track] : tracks_) count += track.triangulated;
-    return count;
+    return landmarkCount();
   };
   // The two views' points, taken before the tracks lose what lies before the window (interpolating at
   // t_a may need a measurement before it).
@@ -215,9 +213,6 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   // to make a landmark; it must triangulate as many landmarks as the two-view start needs inliers.
   const int min_landmarks = std::string_view(motion.method) == "multi-view" ? config.init_min_inliers
                                                                                : config.init_min_inliers / 2;
-  // Too few: the constant-twist knots may be off where the rotation rate changes within the window;
-  // with init_refine_rotations their rotations are refitted to the tracks and the landmarks triangulated
-  // again (docs/method/initialization.md, "First knots").
   // Too few: the trajectories between the two views miss the constant-twist knots; the two views
   // themselves are the five-point pose, so their correspondences make landmarks that the first solve
   // then fits the knots to (init_two_view_landmarks).
@@ -226,6 +221,9 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
     if (added > 0) ++stats_.init_two_view_landmark_starts;
     landmarks += added;
   }
+  // Still too few: the constant-twist knots may be off where the rotation rate changes within the window;
+  // with init_refine_rotations their rotations are refitted to the tracks and the landmarks triangulated
+  // again (docs/method/initialization.md, "First knots").
   if (landmarks < min_landmarks && options_.config.init_refine_rotations &&
       refineStartRotations(trajectory_, tracks_, options_.config.init_ransac_px / options_.focal_px).refined > 0) {
     ++stats_.init_rotation_refits;
@@ -301,11 +299,7 @@ SlidingWindowEstimator::TwoViewPoints SlidingWindowEstimator::twoViewPoints(int6
 }
 
 int SlidingWindowEstimator::triangulateFromTwoViews(const TwoViewPoints& points, int64_t t_a_ns, int64_t t_b_ns) {
-  const BackendConfig& c = options_.config;
-  TriangulationOptions tri;
-  tri.min_parallax_deg = c.min_parallax_deg;
-  tri.max_error = normalizedThreshold(c.max_triangulation_px);
-  tri.min_depth = c.min_depth;
+  const TriangulationOptions tri = triangulationOptions();
   const lie::SE3 T_w_a = trajectory_.pose(t_a_ns), T_w_b = trajectory_.pose(t_b_ns);
   int added = 0;
   for (const auto& [id, ab] : points) {
@@ -314,24 +308,18 @@ int SlidingWindowEstimator::triangulateFromTwoViews(const TwoViewPoints& points,
     FeatureTrack& track = it->second;
     const TriangulationResult result = triangulate({{T_w_a, ab.first}, {T_w_b, ab.second}}, tri);
     if (!result.p_w) continue;
-    track.triangulated = true;
-    Eigen::Map<Eigen::Vector3d>(track.p_w.data()) = *result.p_w;
-    ++stats_.landmarks_created;
+    makeLandmark(track, *result.p_w);
     ++added;
   }
   return added;
 }
 
 int SlidingWindowEstimator::retriangulateUntriangulated() {
-  int before = 0;
-  for (auto& [id, track] : tracks_) {
-    before += track.triangulated;
+  const int before = landmarkCount();
+  for (auto& [id, track] : tracks_)
     if (!track.triangulated) track.observations_at_last_attempt = 0;
-  }
   triangulateTracks();
-  int after = 0;
-  for (const auto& [id, track] : tracks_) after += track.triangulated;
-  return after - before;
+  return landmarkCount() - before;
 }
 
 void SlidingWindowEstimator::update(int64_t t_ns) {
@@ -468,10 +456,7 @@ double SlidingWindowEstimator::medianLandmarkDepth(const lie::SE3& T_c_w, std::s
 void SlidingWindowEstimator::triangulateTracks() {
   const DepthGate depth_gate = depthGate();
   const BackendConfig& c = options_.config;
-  TriangulationOptions tri;
-  tri.min_parallax_deg = c.min_parallax_deg;
-  tri.max_error = normalizedThreshold(c.max_triangulation_px);
-  tri.min_depth = c.min_depth;
+  const TriangulationOptions tri = triangulationOptions();
   for (auto& [id, track] : tracks_) {
     if (track.triangulated) continue;
     std::vector<TriangulationView> views;
@@ -491,10 +476,29 @@ void SlidingWindowEstimator::triangulateTracks() {
       ++stats_.landmarks_depth_rejected;
       continue;
     }
-    track.triangulated = true;
-    Eigen::Map<Eigen::Vector3d>(track.p_w.data()) = *result.p_w;
-    ++stats_.landmarks_created;
+    makeLandmark(track, *result.p_w);
   }
+}
+
+TriangulationOptions SlidingWindowEstimator::triangulationOptions() const {
+  const BackendConfig& c = options_.config;
+  TriangulationOptions tri;
+  tri.min_parallax_deg = c.min_parallax_deg;
+  tri.max_error = normalizedThreshold(c.max_triangulation_px);
+  tri.min_depth = c.min_depth;
+  return tri;
+}
+
+void SlidingWindowEstimator::makeLandmark(FeatureTrack& track, const Eigen::Vector3d& p_w) {
+  track.triangulated = true;
+  Eigen::Map<Eigen::Vector3d>(track.p_w.data()) = p_w;
+  ++stats_.landmarks_created;
+}
+
+int SlidingWindowEstimator::landmarkCount() const {
+  int count = 0;
+  for (const auto& [id, track] : tracks_) count += track.triangulated;
+  return count;
 }
 
 void SlidingWindowEstimator::buildFactors(std::vector<FactorEntry>& factors, std::map<double*, BlockKind>& kinds,

@@ -16,6 +16,7 @@
 #include "asynevo/backend/factor_graph.hpp"
 #include "asynevo/backend/feature_track.hpp"
 #include "asynevo/backend/trajectory.hpp"
+#include "asynevo/backend/triangulation.hpp"
 #include "asynevo/core/config/backend_config.hpp"
 
 namespace ceres {
@@ -97,6 +98,12 @@ class SlidingWindowEstimator : public Estimator {
   InitResult findInitialMotion(int64_t earliest_ns, int64_t t_b_ns, const BackendConfig& config,
                                bool relaxed_counts) const;
   void triangulateTracks();
+  /// The triangulation checks of the configuration (parallax, reprojection error, depth).
+  TriangulationOptions triangulationOptions() const;
+  /// `track` becomes a landmark at `p_w` (counted in stats).
+  void makeLandmark(FeatureTrack& track, const Eigen::Vector3d& p_w);
+  /// Trajectories that are landmarks now.
+  int landmarkCount() const;
   /// Tries every trajectory that is not a landmark again, against the knots as they are now (after the
   /// start's solve, init_retriangulate); returns how many became landmarks.
   int retriangulateUntriangulated();
