@@ -320,9 +320,9 @@ int main(int argc, char** argv) try {
       stats.init_attempts);
   if (stats.initialized) fmt::print("initial views {}\n", backend::describeInitViews(stats.init_views));
   fmt::print(
-      "landmarks {} (marginalized {}), tracks rejected {}, outliers {}, observations marginalized {}, "
+      "landmarks {} (marginalized {}), tracks rejected {}, split {}, outliers {}, observations marginalized {}, "
       "dropped {} (forced) {} (untriangulated), scale anchors {}, depth gate {} rejected {} reset\n",
-      stats.landmarks_created, stats.landmarks_marginalized, stats.tracks_rejected, stats.outliers_removed,
+      stats.landmarks_created, stats.landmarks_marginalized, stats.tracks_rejected, stats.tracks_split, stats.outliers_removed,
       stats.observations_marginalized, stats.observations_dropped_forced,
       stats.observations_dropped_untriangulated, stats.scale_anchors, stats.landmarks_depth_rejected,
       stats.landmarks_depth_reset);

@@ -66,7 +66,9 @@ void SlidingWindowEstimator::addMeasurement(const TrackMeasurement& m) {
     ++stats_.measurements_before_reset;
     return;
   }
-  if (rejected_features_.count(m.feature_id)) {
+  const auto alias = split_aliases_.find(m.feature_id);
+  const int64_t key = alias == split_aliases_.end() ? m.feature_id : alias->second;
+  if (rejected_features_.count(key)) {
     ++stats_.measurements_of_rejected_tracks;
     return;
   }
@@ -74,8 +76,8 @@ void SlidingWindowEstimator::addMeasurement(const TrackMeasurement& m) {
     ++stats_.measurements_before_window;
     return;
   }
-  FeatureTrack& track = tracks_[m.feature_id];
-  track.id = m.feature_id;
+  FeatureTrack& track = tracks_[key];
+  track.id = key;
   if (!track.observations.empty() && m.t_ns < track.lastTime()) {
     ++stats_.measurements_out_of_order;
     return;
@@ -90,7 +92,7 @@ void SlidingWindowEstimator::addMeasurement(const TrackMeasurement& m) {
 
 // Alg. 1's "ended before t_eps" is read from the last measurement time (marginalizeDynamic): a feature
 // that stays quiet is marked like an ended one, and a later measurement of it starts a new trajectory.
-void SlidingWindowEstimator::endFeature(int64_t /*feature_id*/) {}
+void SlidingWindowEstimator::endFeature(int64_t feature_id) { split_aliases_.erase(feature_id); }
 
 void SlidingWindowEstimator::advanceTo(int64_t t_ns) {
   // A gap in the events: nothing constrains the motion across it, so the segment ends at the last
@@ -141,10 +143,12 @@ bool SlidingWindowEstimator::relaxed(int64_t t_ns) const {
 
 BackendConfig SlidingWindowEstimator::initConfig(int64_t t_ns) const {
   BackendConfig config = options_.config;
-  if (relaxed(t_ns)) {
-    config.init_min_features = static_cast<int>(std::ceil(config.init_min_features * config.init_relaxed_fraction));
-    config.init_min_inliers = static_cast<int>(std::ceil(config.init_min_inliers * config.init_relaxed_fraction));
-  }
+  const double waited_ms = durationSeconds(first_measurement_ns_, t_ns) * 1e3;
+  const double again_ms = config.init_relax_again_after_ms;
+  const int times = relaxed(t_ns) ? (again_ms > 0 && waited_ms >= again_ms ? 2 : 1) : 0;
+  const double fraction = std::pow(config.init_relaxed_fraction, times);
+  config.init_min_features = static_cast<int>(std::ceil(config.init_min_features * fraction));
+  config.init_min_inliers = static_cast<int>(std::ceil(config.init_min_inliers * fraction));
   return config;
 }
 
@@ -779,9 +783,7 @@ void SlidingWindowEstimator::removeOutliers() {
   const double limit = options_.config.outlier_px / options_.config.pixel_sigma;
   const double track_limit = options_.config.track_outlier_rms_px / options_.config.pixel_sigma;
   struct TrackResiduals {
-    std::vector<std::size_t> bad;  ///< observation indices beyond `limit`
-    double sum_squared = 0;
-    int count = 0;
+    std::vector<std::pair<std::size_t, double>> norms;  ///< (observation index, whitened norm)
   };
   std::map<FeatureTrack*, TrackResiduals> per_track;
   // The measurements of the newest knot interval: what this update added. Older ones were pruned by
@@ -795,11 +797,9 @@ void SlidingWindowEstimator::removeOutliers() {
     TrackResiduals& r = per_track[source.track];
     const bool ok = f.cost->Evaluate(f.blocks.data(), residual, nullptr);
     const double norm = ok ? std::hypot(residual[0], residual[1]) : std::numeric_limits<double>::infinity();
-    if (norm > limit) r.bad.push_back(source.observation);
+    r.norms.emplace_back(source.observation, norm);
     if (source.track->observations[source.observation].t_ns > recent_from)
       norms_px.push_back(norm * options_.config.pixel_sigma);
-    r.sum_squared += ok ? norm * norm : limit * limit;
-    ++r.count;
   }
   last_median_residual_px_ = 0;
   if (norms_px.size() >= 10) {
@@ -816,9 +816,18 @@ void SlidingWindowEstimator::removeOutliers() {
       ++stats_.landmarks_depth_reset;
       continue;
     }
+    std::sort(r.norms.begin(), r.norms.end());
+    splitDriftedTail(*track, r.norms);  // drops the tail's norms from r.norms when it splits
+    double sum_squared = 0;
+    std::vector<std::size_t> bad;  // observation indices beyond `limit`
+    for (const auto& [observation, norm] : r.norms) {
+      sum_squared += std::isfinite(norm) ? norm * norm : limit * limit;
+      if (norm > limit) bad.push_back(observation);
+    }
     // A landmark that does not fit as a whole is no fixed scene point (or its tracker drifted): its
     // measurements bias every pose they touch, so the trajectory leaves the estimation for good.
-    if (track_limit > 0 && std::sqrt(r.sum_squared / r.count) > track_limit) {
+    if (track_limit > 0 && !r.norms.empty() &&
+        std::sqrt(sum_squared / static_cast<double>(r.norms.size())) > track_limit) {
       releaseFromPrior(track->p_w.data());
       rejected_features_.insert(track->id);
       track->observations.clear();  // erased from tracks_ below
@@ -826,11 +835,11 @@ void SlidingWindowEstimator::removeOutliers() {
       ++stats_.tracks_rejected;
       continue;
     }
-    for (auto it = r.bad.rbegin(); it != r.bad.rend(); ++it) {
+    for (auto it = bad.rbegin(); it != bad.rend(); ++it) {
       track->observations.erase(track->observations.begin() + static_cast<std::ptrdiff_t>(*it));
       ++stats_.outliers_removed;
     }
-    if (r.bad.empty()) continue;
+    if (bad.empty()) continue;
     int inside = 0;
     for (const auto& o : track->observations) inside += trajectory_.covers(o.t_ns);
     if (inside < 2) {  // not enough left to constrain the landmark: back to an untriangulated trajectory
@@ -841,6 +850,36 @@ void SlidingWindowEstimator::removeOutliers() {
   for (auto it = tracks_.begin(); it != tracks_.end();) {
     it = it->second.observations.empty() ? tracks_.erase(it) : std::next(it);
   }
+}
+
+void SlidingWindowEstimator::splitDriftedTail(FeatureTrack& track,
+                                              std::vector<std::pair<std::size_t, double>>& norms) {
+  const double split_limit = options_.config.track_split_px / options_.config.pixel_sigma;
+  const auto min_run = static_cast<std::size_t>(options_.config.track_split_min_measurements);
+  if (split_limit <= 0 || !track.triangulated) return;
+  std::size_t run = 0;  // the newest measurements, all beyond the bound
+  while (run < norms.size() && norms[norms.size() - 1 - run].second > split_limit) ++run;
+  // A tail that misses while an older part (as long as the tail is required to be) still fits: the
+  // tracker moved off the point it was triangulated from. A landmark that misses everywhere is left to
+  // the RMS test.
+  if (run < min_run || norms.size() - run < min_run) return;
+  const std::size_t first = norms[norms.size() - run].first;
+  const int64_t key = next_split_id_++;
+  FeatureTrack& tail = tracks_[key];  // std::map: `track` stays valid
+  tail.id = key;
+  tail.observations.assign(track.observations.begin() + static_cast<std::ptrdiff_t>(first), track.observations.end());
+  track.observations.erase(track.observations.begin() + static_cast<std::ptrdiff_t>(first), track.observations.end());
+  norms.resize(norms.size() - run);
+  // The frontend feature's later measurements extend the new trajectory. A track split before is
+  // found by its alias; without one its feature has ended, and nothing more will come.
+  if (track.id < kFirstSplitId) {
+    split_aliases_[track.id] = key;
+  } else {
+    for (auto& [feature, alias] : split_aliases_) {
+      if (alias == track.id) alias = key;
+    }
+  }
+  ++stats_.tracks_split;
 }
 
 void SlidingWindowEstimator::finish() {

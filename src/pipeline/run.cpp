@@ -386,6 +386,7 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("observations_dropped_untriangulated", e.observations_dropped_untriangulated)
       .add("outliers_removed", e.outliers_removed)
       .add("tracks_rejected", e.tracks_rejected)
+      .add("tracks_split", e.tracks_split)
       .add("measurements_of_rejected_tracks", e.measurements_of_rejected_tracks)
       .add("landmarks_lost", e.landmarks_lost)
       .add("landmarks_depth_rejected", e.landmarks_depth_rejected)

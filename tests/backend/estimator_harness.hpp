@@ -40,6 +40,7 @@ inline EstimatorRun driveEstimator(backend::Estimator& estimator, const std::vec
 struct Accuracy {
   double ate_rmse = 0;      ///< after Sim(3) alignment, metres
   double path_length = 0;   ///< ground-truth path over the knots, metres
+  eval::Similarity alignment;  ///< estimate → ground-truth frame
 };
 
 /// Accuracy against a ground-truth trajectory (the synthetic scene's by default).
@@ -59,7 +60,7 @@ inline Accuracy accuracy(const std::vector<backend::Knot>& knots,
   const eval::Similarity S = eval::alignTrajectory(p_est, R_est, p_gt, R_gt, eval::AlignType::kSim3);
   double sum = 0;
   for (std::size_t i = 0; i < p_est.size(); ++i) sum += (S.apply(p_est[i]) - p_gt[i]).squaredNorm();
-  return {std::sqrt(sum / static_cast<double>(p_est.size())), length};
+  return {std::sqrt(sum / static_cast<double>(p_est.size())), length, S};
 }
 
 inline backend::EstimatorOptions syntheticSceneOptions() {

@@ -228,5 +228,28 @@ TEST(StartScenarios, AStartWithTooFewLandmarksAgainstItsKnotsTriangulatesFromIts
   EXPECT_LT(a.ate_rmse, 0.04 * a.path_length) << a.ate_rmse << " over " << a.path_length;
 }
 
+TEST(StartScenarios, ASceneWithTooFewFeaturesForTheRelaxedCountsStartsOnceRelaxedAgain) {
+  // Sixteen scene points: 8-14 features seen at two times, fewer than the once-relaxed counts need (15).
+  const SyntheticScene scene(16);
+  const double duration = 3.0;
+  const auto ms = scene.measurements(duration, 0.01, 0.8, 0.3);
+  const auto runWith = [&](double again_ms) {
+    EstimatorOptions options = testing::syntheticSceneOptions();
+    options.config.init_relax_again_after_ms = again_ms;
+    SlidingWindowEstimator estimator(options);
+    return testing::driveEstimator(estimator, ms, duration);
+  };
+  const auto once = runWith(0);
+  const auto twice = runWith(1000);
+  EXPECT_FALSE(once.stats.initialized) << once.stats.init_last_failure;
+  EXPECT_GT(once.stats.init_rejections[static_cast<int>(InitRejection::Features)], 0u);
+  ASSERT_TRUE(twice.stats.initialized) << twice.stats.init_last_failure;
+  // Not before the second relaxation, and soon after it (measured: 1.33 s, ATE 1.4 % of the path).
+  EXPECT_GE(twice.stats.initialized_at_ns, 1'000'000'000);
+  EXPECT_LE(twice.stats.initialized_at_ns, 1'500'000'000);
+  const auto a = testing::accuracy(twice.knots);
+  EXPECT_LT(a.ate_rmse, 0.05 * a.path_length) << a.ate_rmse << " over " << a.path_length;
+}
+
 }  // namespace
 }  // namespace asynevo::backend

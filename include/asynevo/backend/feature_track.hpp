@@ -27,7 +27,7 @@ struct FixedView {
 };
 
 struct FeatureTrack {
-  int64_t id = 0;
+  int64_t id = 0;          ///< the key in TrackMap: the frontend's feature id, or a new id after a split
   std::vector<Observation> observations;  ///< time-ordered
   std::vector<FixedView> fixed_views;     ///< older measurements, from poses no longer in the window
   bool triangulated = false;

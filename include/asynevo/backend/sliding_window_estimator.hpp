@@ -37,6 +37,10 @@ struct EstimatorOptions {
 
 class SlidingWindowEstimator : public Estimator {
  public:
+  /// Ids of the trajectories split off by track_split_px count up from here, far above any frontend
+  /// feature id; the landmarks they become carry them.
+  static constexpr int64_t kFirstSplitId = int64_t{1} << 40;
+
   explicit SlidingWindowEstimator(const EstimatorOptions& options);
   ~SlidingWindowEstimator() override;
 
@@ -57,6 +61,9 @@ class SlidingWindowEstimator : public Estimator {
   const TrackMap& tracks() const { return tracks_; }
   /// Feature ids whose trajectories the RMS test rejected (track_outlier_rms_px).
   const std::set<int64_t>& rejectedFeatures() const { return rejected_features_; }
+  /// Feature ids whose later measurements extend a trajectory split off by track_split_px, with its id
+  /// (until the frontend ends the feature).
+  const std::map<int64_t, int64_t>& splitFeatures() const { return split_aliases_; }
 
  protected:
   /// The factors of the current window (WNOA, projections of triangulated tracks up to the newest knot,
@@ -141,6 +148,10 @@ class SlidingWindowEstimator : public Estimator {
   /// After a solve: rejects whole trajectories failing the RMS test, then single measurements beyond
   /// outlier_px.
   void removeOutliers();
+  /// track_split_px: moves a triangulated track's newest measurements to a new trajectory when they all
+  /// miss its landmark (`norms`: its (observation index, whitened residual norm) in time order, the
+  /// tail's removed on a split).
+  void splitDriftedTail(FeatureTrack& track, std::vector<std::pair<std::size_t, double>>& norms);
   void finalizeKnot(const Knot& knot);
   void finalizeLandmark(const FeatureTrack& track);
   double normalizedThreshold(double px) const { return px / options_.focal_px; }
@@ -154,6 +165,10 @@ class SlidingWindowEstimator : public Estimator {
 
   Trajectory trajectory_;
   TrackMap tracks_;
+  /// Frontend feature id → the trajectory its measurements now extend, for features split by
+  /// track_split_px (forgotten when the frontend ends the feature).
+  std::map<int64_t, int64_t> split_aliases_;
+  int64_t next_split_id_ = kFirstSplitId;
   std::set<int64_t> rejected_features_;  ///< trajectories rejected by the RMS test: later measurements ignored
   std::optional<FactorEntry> prior_;          ///< marginalization prior (knots, active landmarks)
   /// Gauge and scale anchors from initialization (a state prior on the first knot, a distance between

@@ -81,6 +81,8 @@ void BackendConfig::validate() const {
   requireRange("backend.huber_px", huber_px, 1e-3, 1000.0);
   requireRange("backend.outlier_px", outlier_px, 1e-3, 1e6);
   requireRange("backend.track_outlier_rms_px", track_outlier_rms_px, 0.0, 1e6);
+  requireRange("backend.track_split_px", track_split_px, 0.0, 1e6);
+  requireRange("backend.track_split_min_measurements", track_split_min_measurements, 1, 100000);
   requireRange("backend.min_track_measurements", min_track_measurements, 2, 100000);
   requireRange("backend.min_parallax_deg", min_parallax_deg, 0.0, 90.0);
   requireRange("backend.max_triangulation_px", max_triangulation_px, 1e-3, 1e6);
@@ -107,6 +109,8 @@ void BackendConfig::validate() const {
   requireRange("backend.init_relax_after_ms", init_relax_after_ms, 0.0, 1e9);
   requireRange("backend.init_agreement_deg", init_agreement_deg, 0.0, 180.0);
   requireRange("backend.init_relaxed_fraction", init_relaxed_fraction, 0.1, 1.0);
+  if (init_relax_again_after_ms != 0.0)
+    requireRange("backend.init_relax_again_after_ms", init_relax_again_after_ms, init_relax_after_ms, 1e9);
   if (init_method != "two-view" && init_method != "multi-view" && init_method != "both")
     throw ConfigError(fmt::format("configuration value backend.init_method = '{}' is not one of two-view, multi-view, both",
                                   init_method));

@@ -22,6 +22,12 @@ struct BackendConfig {
   /// is removed and its feature ignored from then on (a corner that is no fixed scene point, e.g. a
   /// T-junction at a depth discontinuity, or a drifting tracker). 0 disables.
   double track_outlier_rms_px = 3.0;
+  /// Backend-guided track splitting: after a solve, when a landmark's newest measurements all miss it
+  /// by more than this (at least track_split_min_measurements of them in a row, after an older part that
+  /// fits), the feature's tracker has drifted onto another point: those measurements and the feature's
+  /// later ones become a new trajectory, triangulated on its own. 0 disables.
+  double track_split_px = 0.0;
+  int track_split_min_measurements = 3;  ///< trailing measurements beyond track_split_px that split a track
 
   // --- triangulation of new trajectories ---
   int min_track_measurements = 5;      ///< measurements needed before a trajectory is triangulated
@@ -68,6 +74,9 @@ struct BackendConfig {
   /// for 30 at both ends still starts, and one that has them keeps the stricter start.
   double init_relax_after_ms = 250.0;
   double init_relaxed_fraction = 0.5;
+  /// Attempts still failing this long after the first measurement (event time): the counts are
+  /// multiplied by init_relaxed_fraction once more, for scenes with very few features. 0 = never.
+  double init_relax_again_after_ms = 0.0;
   /// Which start is tried: "two-view" (two times, five-point RANSAC), "multi-view" (one constant twist
   /// fitted to every track of the window) or "both" (two-view first; once the counts are relaxed,
   /// multi-view when it fails).
@@ -107,6 +116,11 @@ struct BackendConfig {
     v("outlier_px", outlier_px, "after each solve, drop measurements with a larger reprojection error [px]");
     v("track_outlier_rms_px", track_outlier_rms_px,
       "after each solve, reject a whole trajectory whose RMS reprojection error is larger [px] (0 = off)");
+    v("track_split_px", track_split_px,
+      "after each solve, a landmark whose newest measurements all miss it by more than this is split: they "
+      "start a new trajectory [px] (0 = off)");
+    v("track_split_min_measurements", track_split_min_measurements,
+      "track splitting: trailing measurements beyond track_split_px needed to split");
     v("min_track_measurements", min_track_measurements, "measurements before a trajectory is triangulated");
     v("min_parallax_deg", min_parallax_deg, "minimum ray angle to triangulate a trajectory [deg]");
     v("max_triangulation_px", max_triangulation_px, "maximum reprojection error of a new landmark [px]");
@@ -137,6 +151,9 @@ struct BackendConfig {
       "initialization: event time of failed attempts after which the feature and inlier counts are relaxed [ms]");
     v("init_relaxed_fraction", init_relaxed_fraction,
       "initialization: factor on init_min_features and init_min_inliers once relaxed (1 = never relax)");
+    v("init_relax_again_after_ms", init_relax_again_after_ms,
+      "initialization: event time of failed attempts after which the counts are relaxed by "
+      "init_relaxed_fraction once more [ms] (0 = never)");
     v("init_method", init_method, "initialization: two-view, multi-view or both (two-view first, multi-view once relaxed)");
     v("init_refine_rotations", init_refine_rotations,
       "initialization: refit the first knots' rotations to the tracks when too few landmarks triangulate");
