@@ -31,6 +31,7 @@ struct InfoOptions {
   std::string sensor;
   std::string topic;
   std::string gt_topic;
+  std::string rectify_map;
 };
 
 // The streams of a container file (AEDAT 4.0), one line each: id, type, name, size, packets, elements.
@@ -72,8 +73,9 @@ void runInfo(const InfoOptions& options) {
   const DatasetFiles files = resolveDataset(options.dataset, options.format);
   checkGroundTruthChoice(files, options.gt_topic);
   std::vector<std::string> notes;
-  const ReaderOptions reader_options =
-      datasetReaderOptions(files, config, {options.format, options.sensor, "", options.config, options.topic}, &notes);
+  const ReaderOptions reader_options = datasetReaderOptions(
+      files, config, {options.format, options.sensor, "", options.config, options.topic, options.rectify_map},
+      &notes);
   auto reader = openEventReader(files.events, reader_options);
   Progress progress;
   int64_t first_t_ns = 0;
@@ -93,6 +95,16 @@ void runInfo(const InfoOptions& options) {
   fmt::print("format        {}\n", info.format);
   fmt::print("sensor        {} x {} (from {})\n", info.width, info.height, info.size_origin);
   for (const std::string& note : notes) fmt::print("              note: {}\n", note);
+  const bool rectified = !info.rectify_map.empty();
+  if (rectified) {
+    fmt::print(
+        "rectification {}: events in the rectified camera's pixels (rounded), {} mapped outside the "
+        "sensor (dropped)\n",
+        info.rectify_map, reader->stats().rectified_outside);
+  } else if (info.format == "dsec") {
+    fmt::print("rectification none: events in raw pixels (no {} beside the events, or --rectify-map none)\n",
+               "rectify_map.h5");
+  }
   fmt::print("events        {}\n", stats.events);
   fmt::print("time span     {} .. {} s ({:.6f} s)\n", first, last, stats.durationSeconds());
   fmt::print("event rate    mean {:.3f} M events/s; over {} ms windows: median {:.3f}, max {:.3f} M events/s (at {:.3f} s)\n",
@@ -148,6 +160,12 @@ void runInfo(const InfoOptions& options) {
   } else {
     fmt::print("calibration   none found (a run needs --calib)\n");
   }
+  if (rectified) {
+    fmt::print(
+        "              note: the events are rectified: the calibration that applies is DSEC's "
+        "rectified camera (cam_to_cam.yaml intrinsics camRect0 or camRect1: camera_matrix, no "
+        "distortion), not the raw one\n");
+  }
   const std::optional<DatasetGroundTruth> gt = loadDatasetGroundTruth(files, options.gt_topic);
   if (gt) {
     char gt_first[32], gt_last[32];
@@ -180,6 +198,7 @@ void addInfoCommand(CLI::App& app) {
   cmd->add_option("--config", options.config, "configuration YAML (sensor size, time tolerance)");
   addSensorOption(cmd, options.sensor);
   addTopicOption(cmd, options.topic);
+  addRectifyMapOption(cmd, options.rectify_map);
   addGtTopicOption(cmd, options.gt_topic);
   cmd->callback([] { runInfo(options); });
 }

@@ -35,11 +35,13 @@ RectifyMap::RectifyMap(const std::string& path, int width, int height, const std
   const H5QuietErrors quiet;
   const H5File file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
   if (!file.valid())
-    throw InputError(path, "cannot open the rectification map as HDF5 (missing, unreadable or truncated file)");
+    throw InputError(path,
+                     "cannot open the rectification map as HDF5 (missing, unreadable or truncated file)");
   if (!h5PathExists(file.get(), kRectifyMapDataset)) {
-    throw InputError(path, fmt::format("missing dataset '{}': a DSEC rectification map holds one dataset '{}' of "
-                                       "shape (height, width, 2)",
-                                       kRectifyMapDataset, kRectifyMapDataset));
+    throw InputError(path,
+                     fmt::format("missing dataset '{}': a DSEC rectification map holds one dataset '{}' of "
+                                 "shape (height, width, 2)",
+                                 kRectifyMapDataset, kRectifyMapDataset));
   }
   const H5Dataset dataset(H5Dopen2(file.get(), kRectifyMapDataset, H5P_DEFAULT));
   if (!dataset.valid())
@@ -48,28 +50,33 @@ RectifyMap::RectifyMap(const std::string& path, int width, int height, const std
   const int rank = space.valid() ? H5Sget_simple_extent_ndims(space.get()) : -1;
   hsize_t dims[H5S_MAX_RANK] = {};
   if (rank < 0 || rank > H5S_MAX_RANK || H5Sget_simple_extent_dims(space.get(), dims, nullptr) != rank)
-    throw InputError(path, fmt::format("cannot read the shape of dataset '{}' (corrupt file?)", kRectifyMapDataset));
-  if (rank != 3 || dims[0] != static_cast<hsize_t>(height) || dims[1] != static_cast<hsize_t>(width) || dims[2] != 2) {
-    throw InputError(path, fmt::format("dataset '{}' has shape ({}); the rectification map of the {}x{} sensor (size "
-                                       "from {}) has shape ({}, {}, 2): one (x, y) per raw pixel, indexed [y, x]",
-                                       kRectifyMapDataset, fmt::join(dims, dims + rank, ", "), width, height,
-                                       size_origin, height, width));
+    throw InputError(
+        path, fmt::format("cannot read the shape of dataset '{}' (corrupt file?)", kRectifyMapDataset));
+  if (rank != 3 || dims[0] != static_cast<hsize_t>(height) || dims[1] != static_cast<hsize_t>(width) ||
+      dims[2] != 2) {
+    throw InputError(
+        path, fmt::format("dataset '{}' has shape ({}); the rectification map of the {}x{} sensor (size "
+                          "from {}) has shape ({}, {}, 2): one (x, y) per raw pixel, indexed [y, x]",
+                          kRectifyMapDataset, fmt::join(dims, dims + rank, ", "), width, height, size_origin,
+                          height, width));
   }
   const uint64_t pixels = static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
   h5CheckFloatDataset(path, dataset.get(), kRectifyMapDataset, 2 * pixels);
   h5CheckFiltersAvailable(path, dataset.get(), kRectifyMapDataset);
   std::vector<double> values(2 * pixels);
   if (H5Dread(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0)
-    throw InputError(path, fmt::format("cannot read dataset '{}' (truncated or corrupt file?)", kRectifyMapDataset));
+    throw InputError(
+        path, fmt::format("cannot read dataset '{}' (truncated or corrupt file?)", kRectifyMapDataset));
 
   target_.resize(pixels);
   for (uint64_t i = 0; i < pixels; ++i) {
     const double x = values[2 * i], y = values[2 * i + 1];
     if (!std::isfinite(x) || !std::isfinite(y)) {
-      throw InputError(path, fmt::format("dataset '{}' entry [{}, {}] (y, x) is ({:g}, {:g}): not a finite pixel "
-                                         "position",
-                                         kRectifyMapDataset, i / static_cast<uint64_t>(width),
-                                         i % static_cast<uint64_t>(width), x, y));
+      throw InputError(path,
+                       fmt::format("dataset '{}' entry [{}, {}] (y, x) is ({:g}, {:g}): not a finite pixel "
+                                   "position",
+                                   kRectifyMapDataset, i / static_cast<uint64_t>(width),
+                                   i % static_cast<uint64_t>(width), x, y));
     }
     const long xr = roundedInside(x, width), yr = roundedInside(y, height);
     if (xr < 0 || yr < 0) {

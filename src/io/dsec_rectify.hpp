@@ -32,8 +32,8 @@ class RectifyMap {
 
   /// The rectified pixel of raw pixel (x, y) (inside the sensor); false when it is outside the sensor.
   bool map(int x, int y, uint16_t& x_rect, uint16_t& y_rect) const {
-    const uint32_t target = target_[static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) +
-                                    static_cast<std::size_t>(x)];
+    const uint32_t target =
+        target_[static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x)];
     if (target == kNoPixel) return false;
     x_rect = static_cast<uint16_t>(target % static_cast<uint32_t>(width_));
     y_rect = static_cast<uint16_t>(target / static_cast<uint32_t>(width_));

@@ -99,8 +99,9 @@ inline void writeDsecEvents(const std::string& path, const DsecEvents& events, c
 }
 
 /// A rectify_map.h5 with `values` (row-major over `dims`) in dataset `name`, stored as `type`.
-inline void writeRectifyMap(const std::string& path, const std::vector<float>& values, const std::vector<hsize_t>& dims,
-                            const std::string& name = "rectify_map", hid_t type = H5T_IEEE_F32LE) {
+inline void writeRectifyMap(const std::string& path, const std::vector<float>& values,
+                            const std::vector<hsize_t>& dims, const std::string& name = "rectify_map",
+                            hid_t type = H5T_IEEE_F32LE) {
   const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   const hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
   const hid_t dataset = H5Dcreate2(file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);

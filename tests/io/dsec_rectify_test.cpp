@@ -18,8 +18,8 @@ namespace asynevo {
 namespace {
 
 using testing::DsecEvents;
-using testing::TempDir;
 using testing::rectifyMapValues;
+using testing::TempDir;
 using testing::writeDsecEvents;
 using testing::writeRectifyMap;
 
@@ -47,11 +47,11 @@ std::string messageOf(const std::string& path, const ReaderOptions& options) {
 // Raw (x, y) -> (x + 0.4, y - 0.6), which rounds to (x, y - 1) (row 0 leaves the sensor), except for pixels
 // that test the rounding and the borders.
 std::pair<float, float> shiftUp(int x, int y) {
-  if (x == 7 && y == 5) return {7.5f, 5.0f};     // x rounds to 8: outside
-  if (x == 2 && y == 3) return {-0.5f, 1.0f};    // x rounds (away from zero) to -1: outside
-  if (x == 3 && y == 3) return {-0.49f, 2.5f};   // (0, 3): 2.5 rounds away from zero
-  if (x == 6 && y == 4) return {7.49f, 5.49f};   // (7, 5): the last pixel
-  if (x == 5 && y == 2) return {1e30f, 2.0f};    // far outside
+  if (x == 7 && y == 5) return {7.5f, 5.0f};    // x rounds to 8: outside
+  if (x == 2 && y == 3) return {-0.5f, 1.0f};   // x rounds (away from zero) to -1: outside
+  if (x == 3 && y == 3) return {-0.49f, 2.5f};  // (0, 3): 2.5 rounds away from zero
+  if (x == 6 && y == 4) return {7.49f, 5.49f};  // (7, 5): the last pixel
+  if (x == 5 && y == 2) return {1e30f, 2.0f};   // far outside
   return {static_cast<float>(x) + 0.4f, static_cast<float>(y) - 0.6f};
 }
 
@@ -71,7 +71,8 @@ DsecEvents nineEvents() {
 TEST(DsecRectify, MapsEachEventToItsRoundedRectifiedPixelAndCountsThoseOutside) {
   TempDir dir;
   writeDsecEvents(dir.file("events.h5"), nineEvents());
-  writeRectifyMap(dir.file("rectify_map.h5"), rectifyMapValues(kWidth, kHeight, shiftUp), {kHeight, kWidth, 2});
+  writeRectifyMap(dir.file("rectify_map.h5"), rectifyMapValues(kWidth, kHeight, shiftUp),
+                  {kHeight, kWidth, 2});
   // Packets of 2 records: records 2 and 3 are both dropped, so the second packet reads on to records 4, 5.
   auto reader = openEventReader(dir.file("events.h5"), small(2));
   EXPECT_EQ(reader->info().rectify_map, dir.file("rectify_map.h5"));  // found beside the events
@@ -83,8 +84,8 @@ TEST(DsecRectify, MapsEachEventToItsRoundedRectifiedPixelAndCountsThoseOutside) 
     first_indices.push_back(packet.first_index);
     all.insert(all.end(), packet.events.begin(), packet.events.end());
   }
-  const std::vector<Event> expected = {{10'000, 1, 0, -1}, {20'000, 0, 3, 1}, {60'000, 7, 5, 1},
-                                       {70'000, 4, 1, -1}, {90'000, 1, 4, -1}};
+  const std::vector<Event> expected = {
+      {10'000, 1, 0, -1}, {20'000, 0, 3, 1}, {60'000, 7, 5, 1}, {70'000, 4, 1, -1}, {90'000, 1, 4, -1}};
   EXPECT_EQ(all, expected);
   EXPECT_EQ(first_indices, (std::vector<uint64_t>{0, 2, 3, 4}));
   EXPECT_EQ(reader->stats().events, 5u);
@@ -107,7 +108,8 @@ TEST(DsecRectify, NamedMapNoneAndNoMap) {
   EXPECT_EQ(named->info().rectify_map, dir.file("maps.h5"));
   EXPECT_EQ(readAllEvents(dir.file("events.h5"), small(65536, dir.file("maps.h5"))).size(), 5u);
   // "none" turns off the map beside the events.
-  writeRectifyMap(dir.file("rectify_map.h5"), rectifyMapValues(kWidth, kHeight, shiftUp), {kHeight, kWidth, 2});
+  writeRectifyMap(dir.file("rectify_map.h5"), rectifyMapValues(kWidth, kHeight, shiftUp),
+                  {kHeight, kWidth, 2});
   EXPECT_EQ(readAllEvents(dir.file("events.h5"), small()).size(), 5u);
   EXPECT_EQ(readAllEvents(dir.file("events.h5"), small(65536, "none")), raw_events);
   EXPECT_EQ(openEventReader(dir.file("events.h5"), small(65536, "none"))->info().rectify_map, "");
@@ -120,21 +122,27 @@ TEST(DsecRectify, BadMapsAreErrorsNamingTheFileAndDataset) {
   const std::vector<float> good = rectifyMapValues(kWidth, kHeight, shiftUp);
   // Transposed (width, height, 2), and a map of another sensor.
   writeRectifyMap(map, good, {kWidth, kHeight, 2});
-  EXPECT_EQ(messageOf(dir.file("events.h5"), small(65536, map)),
-            map + ": dataset 'rectify_map' has shape (8, 6, 2); the rectification map of the 8x6 sensor (size from "
-                  "--sensor) has shape (6, 8, 2): one (x, y) per raw pixel, indexed [y, x]");
+  EXPECT_EQ(
+      messageOf(dir.file("events.h5"), small(65536, map)),
+      map +
+          ": dataset 'rectify_map' has shape (8, 6, 2); the rectification map of the 8x6 sensor (size from "
+          "--sensor) has shape (6, 8, 2): one (x, y) per raw pixel, indexed [y, x]");
   writeRectifyMap(map, std::vector<float>(4 * 3 * 2, 0.0f), {4, 3, 2});
-  EXPECT_EQ(messageOf(dir.file("events.h5"), small(65536, map)),
-            map + ": dataset 'rectify_map' has shape (4, 3, 2); the rectification map of the 8x6 sensor (size from "
-                  "--sensor) has shape (6, 8, 2): one (x, y) per raw pixel, indexed [y, x]");
+  EXPECT_EQ(
+      messageOf(dir.file("events.h5"), small(65536, map)),
+      map +
+          ": dataset 'rectify_map' has shape (4, 3, 2); the rectification map of the 8x6 sensor (size from "
+          "--sensor) has shape (6, 8, 2): one (x, y) per raw pixel, indexed [y, x]");
   writeRectifyMap(map, good, {kHeight * kWidth * 2});
   EXPECT_NE(messageOf(dir.file("events.h5"), small(65536, map)).find("dataset 'rectify_map' has shape (96);"),
             std::string::npos);
   // Another dataset name.
   writeRectifyMap(map, good, {kHeight, kWidth, 2}, "map");
   EXPECT_EQ(messageOf(dir.file("events.h5"), small(65536, map)),
-            map + ": missing dataset 'rectify_map': a DSEC rectification map holds one dataset 'rectify_map' of shape "
-                  "(height, width, 2)");
+            map +
+                ": missing dataset 'rectify_map': a DSEC rectification map holds one dataset 'rectify_map' "
+                "of shape "
+                "(height, width, 2)");
   // A NaN entry is named by its [y, x].
   std::vector<float> nan = good;
   nan[2 * (2 * kWidth + 5)] = std::numeric_limits<float>::quiet_NaN();
@@ -144,19 +152,25 @@ TEST(DsecRectify, BadMapsAreErrorsNamingTheFileAndDataset) {
   std::vector<float> inf = good;
   inf[2 * (kWidth + 1) + 1] = -std::numeric_limits<float>::infinity();
   writeRectifyMap(map, inf, {kHeight, kWidth, 2});
-  EXPECT_NE(messageOf(dir.file("events.h5"), small(65536, map)).find("entry [1, 1] (y, x) is (1.4, -inf): not a finite pixel position"), std::string::npos);
+  EXPECT_NE(messageOf(dir.file("events.h5"), small(65536, map))
+                .find("entry [1, 1] (y, x) is (1.4, -inf): not a finite pixel position"),
+            std::string::npos);
   // Integers instead of floats.
   writeRectifyMap(map, good, {kHeight, kWidth, 2}, "rectify_map", H5T_STD_I32LE);
   EXPECT_EQ(messageOf(dir.file("events.h5"), small(65536, map)),
-            map + ": dataset 'rectify_map' does not hold 32- or 64-bit floating-point numbers (its values are 4 bytes "
-                  "each; corrupt file?)");
+            map +
+                ": dataset 'rectify_map' does not hold 32- or 64-bit floating-point numbers (its values are "
+                "4 bytes "
+                "each; corrupt file?)");
   // A missing file, a file that is not HDF5.
   EXPECT_EQ(messageOf(dir.file("events.h5"), small(65536, dir.file("nope.h5"))),
-            dir.file("nope.h5") + ": cannot open the rectification map as HDF5 (missing, unreadable or truncated file)");
+            dir.file("nope.h5") +
+                ": cannot open the rectification map as HDF5 (missing, unreadable or truncated file)");
   // A broken map beside the events is an error too (not skipped): it was meant to be used.
   writeRectifyMap(dir.file("rectify_map.h5"), good, {kWidth, kHeight, 2});
-  EXPECT_NE(messageOf(dir.file("events.h5"), small()).find(dir.file("rectify_map.h5") + ": dataset 'rectify_map' has "
-                                                                                         "shape (8, 6, 2)"),
+  EXPECT_NE(messageOf(dir.file("events.h5"), small())
+                .find(dir.file("rectify_map.h5") + ": dataset 'rectify_map' has "
+                                                   "shape (8, 6, 2)"),
             std::string::npos);
 }
 

@@ -70,8 +70,8 @@ struct ReaderStats {
   uint64_t ignored_words = 0;    ///< encoded words skipped: vendor extensions (Prophesee OTHERS/CONTINUED) and
                                  ///< events before the stream's first time base or row
   uint64_t imu_samples = 0;      ///< IMU samples in the file (counted, not delivered; AEDAT 4.0)
-  uint64_t rectified_outside = 0;  ///< events whose rectified pixel is outside the sensor (dropped; DSEC with a
-                                   ///< rectification map)
+  uint64_t rectified_outside = 0;  ///< events whose rectified pixel is outside the sensor (dropped; DSEC with
+                                   ///< a rectification map)
   std::vector<ContainerStream> streams;  ///< the streams of a container file (AEDAT 4.0); empty otherwise
 };
 
