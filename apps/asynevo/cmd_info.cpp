@@ -31,8 +31,17 @@ struct InfoOptions {
   std::string sensor;
   std::string topic;
   std::string gt_topic;
+  std::string camera_info_topic;
   std::string rectify_map;
 };
+
+// The event topic a ROS bag's reader delivers ("" for other formats).
+std::string bagEventTopic(const EventReader& reader) {
+  for (const ContainerStream& t : reader.stats().streams) {
+    if (t.delivered && reader.info().format == "rosbag") return t.name;
+  }
+  return "";
+}
 
 // The streams of a container file (AEDAT 4.0), one line each: id, type, name, size, packets, elements.
 void printContainerStreams(const std::vector<ContainerStream>& streams) {
@@ -140,23 +149,26 @@ void runInfo(const InfoOptions& options) {
     fmt::print("skipped       {} encoded words (vendor extension words, events before the first time base)\n",
                reader->stats().ignored_words);
   }
-  // Calibration: a file beside the events (calib.txt, a camchain) wins over a bag's CameraInfo topic.
+  // Calibration: --camera-info-topic, a file beside the events (calib.txt, a camchain), a bag's CameraInfo
+  // topic (chooseDatasetCalibration).
   const bool bag = info.format == "rosbag";
-  if (files.calibration) {
-    const CameraModel camera = readCalibration(*files.calibration, info.width, info.height);
-    fmt::print("calibration   {}\n              {}\n", *files.calibration, camera.summary());
+  const DatasetCalibration calibration =
+      chooseDatasetCalibration(files, "", options.camera_info_topic, bagEventTopic(*reader));
+  if (!calibration.file.empty()) {
+    const CameraModel camera = readCalibration(calibration.file, info.width, info.height);
+    fmt::print("calibration   {}\n              {}\n", calibration.file, camera.summary());
     if (camera.width() != info.width || camera.height() != info.height)
       fmt::print("              warning: calibration is {}x{} but the events are {}x{}\n", camera.width(),
                  camera.height(), info.width, info.height);
-    if (bag && !rosbagCameraInfoTopics(files.events).empty())
-      fmt::print("              note: the bag's sensor_msgs/CameraInfo topic is not used (the file wins)\n");
-  } else if (const std::optional<BagCalibration> calib = bag ? readRosbagCalibration(files.events) : std::nullopt) {
+    if (!calibration.note.empty()) fmt::print("              note: {}\n", calibration.note);
+  } else if (const std::optional<BagCalibration>& calib = calibration.bag) {
     fmt::print("calibration   {}\n              {}\n", bagTopicSource(files.events, calib->topic),
                calib->camera.summary());
     if (calib->camera.width() != info.width || calib->camera.height() != info.height)
       fmt::print("              warning: the camera info is for {}x{} pixels but the events are {}x{} (a run stops "
                  "with an error)\n",
                  calib->camera.width(), calib->camera.height(), info.width, info.height);
+    if (!calibration.note.empty()) fmt::print("              note: {}\n", calibration.note);
   } else {
     fmt::print("calibration   none found (a run needs --calib)\n");
   }
@@ -199,6 +211,7 @@ void addInfoCommand(CLI::App& app) {
   addSensorOption(cmd, options.sensor);
   addTopicOption(cmd, options.topic);
   addRectifyMapOption(cmd, options.rectify_map);
+  addCameraInfoTopicOption(cmd, options.camera_info_topic);
   addGtTopicOption(cmd, options.gt_topic);
   cmd->callback([] { runInfo(options); });
 }

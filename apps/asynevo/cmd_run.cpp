@@ -92,6 +92,7 @@ void addRunCommand(CLI::App& app) {
   addSensorOption(cmd, run.sensor);
   addTopicOption(cmd, run.topic);
   addRectifyMapOption(cmd, run.rectify_map);
+  addCameraInfoTopicOption(cmd, run.camera_info_topic);
   addGtTopicOption(cmd, run.gt_topic);
   cmd->add_option("--backend", options.backend,
                   "estimator: window (AsynEVO), incremental (full-history smoother baseline) or "

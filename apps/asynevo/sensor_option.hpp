@@ -42,6 +42,15 @@ inline CLI::Option* addRectifyMapOption(CLI::App* cmd, std::string& value) {
       "rectify_map.h5 beside the events file, if any; 'none' reads raw pixels");
 }
 
+/// The --camera-info-topic NAME option of the commands that read a calibration (info, run): which
+/// sensor_msgs/CameraInfo topic of a ROS bag is the camera (docs/reference/formats_rosbag.md#calibration).
+inline CLI::Option* addCameraInfoTopicOption(CLI::App* cmd, std::string& value) {
+  return cmd->add_option("--camera-info-topic", value,
+                         "ROS bag: the sensor_msgs/CameraInfo topic that is the calibration; needed only when the "
+                         "bag has several and none is in the event topic's namespace (/dvs/events -> "
+                         "/dvs/camera_info); when given it wins over a calibration file beside the bag");
+}
+
 /// The --gt-topic NAME option of the commands that read ground truth (info, run, eval): which pose topic of a
 /// ROS bag is the ground truth (docs/reference/formats_rosbag.md#ground-truth).
 inline CLI::Option* addGtTopicOption(CLI::App* cmd, std::string& value) {

@@ -148,11 +148,14 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
   Config config = options.config ? *options.config
                                  : (options.config_path.empty() ? Config() : loadConfig(options.config_path));
   const DatasetFiles files = resolveDataset(options.dataset, options.format);
-  const std::string calib = !options.calib.empty() ? options.calib : files.calibration.value_or("");
-  // A ROS bag's sensor_msgs/CameraInfo topic is the calibration when no file is given or found beside it.
-  std::optional<BagCalibration> bag_calib;
+  // --calib, --camera-info-topic, a file beside the events, a ROS bag's CameraInfo topic
+  // (chooseDatasetCalibration).
+  const DatasetCalibration calibration =
+      chooseDatasetCalibration(files, options.calib, options.camera_info_topic, options.topic);
+  const std::string& calib = calibration.file;
+  const std::optional<BagCalibration>& bag_calib = calibration.bag;
+  if (bag_calib && !calibration.note.empty()) summary.warnings.push_back("calibration: " + calibration.note);
   const bool bag = isRosbag(files.events);
-  if (calib.empty() && bag) bag_calib = readRosbagCalibration(files.events);
   if (calib.empty() && !bag_calib)
     throw InputError(files.root,
                      std::string("no camera calibration: the dataset folder has no calib.txt or Kalibr camchain .yaml") +

@@ -41,6 +41,8 @@ struct RunOptions {
   std::string topic;             ///< --topic: a ROS bag's event topic ("" = its only one)
   std::string rectify_map;       ///< --rectify-map: DSEC's rectification map ("" = rectify_map.h5 beside the
                                  ///< events if any, "none" = raw pixels)
+  std::string camera_info_topic;  ///< --camera-info-topic: a ROS bag's CameraInfo topic for the calibration
+                                  ///< ("" = the rule of io/dataset.hpp chooseDatasetCalibration)
   std::string gt_topic;          ///< --gt-topic: a ROS bag's pose topic for the ground truth ("" = the rule of
                                  ///< io/dataset.hpp loadDatasetGroundTruth)
   std::string config_path;       ///< "" = defaults (or `config` below)
