@@ -175,7 +175,7 @@ void runInfo(const InfoOptions& options) {
   if (rectified) {
     fmt::print(
         "              note: the events are rectified: the calibration that applies is DSEC's "
-        "rectified camera (cam_to_cam.yaml intrinsics camRect0 or camRect1: camera_matrix, no "
+        "rectified camera (cam_to_cam.yaml intrinsics camRect0 or camRect3: camera_matrix, no "
         "distortion), not the raw one\n");
   }
   const std::optional<DatasetGroundTruth> gt = loadDatasetGroundTruth(files, options.gt_topic);

@@ -38,7 +38,7 @@ inline CLI::Option* addRectifyMapOption(CLI::App* cmd, std::string& value) {
   return cmd->add_option(
       "--rectify-map", value,
       "DSEC: the rectification map (rectify_map.h5) to apply to the events, which are then in the "
-      "rectified camera's pixels (calibration: DSEC's camRect0, no distortion); default: the "
+      "rectified camera's pixels (calibration: DSEC's camRect0 or camRect3, no distortion); default: the "
       "rectify_map.h5 beside the events file, if any; 'none' reads raw pixels");
 }
 

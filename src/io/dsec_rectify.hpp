@@ -1,9 +1,10 @@
 #pragma once
 // DSEC's rectification map (docs/reference/formats.md#rectification): `rectify_map.h5` beside a sequence's
 // `events.h5` holds one dataset `rectify_map` of shape (height, width, 2), 32-bit floats, indexed [y, x] by a
-// raw pixel and holding its [x, y] in the rectified camera (DSEC's camRect0 / camRect1: undistorted and
+// raw pixel and holding its [x, y] in the rectified camera (DSEC's camRect0 / camRect3: undistorted and
 // rotated by R_rect, intrinsics in cam_to_cam.yaml). Layout from https://dsec.ifi.uzh.ch/data-format/ and
-// the DSEC scripts' Sequence.rectify_events (uzh-rpg/DSEC, scripts/dataset/sequence.py).
+// the README and Sequence.rectify_events (scripts/dataset/sequence.py) of uzh-rpg/DSEC (cam0 left event camera,
+// cam3 right).
 //
 // Events carry integer pixels (core/event.hpp), so each raw pixel's target is rounded to the nearest pixel
 // (halves away from zero) once, when the map is loaded; a target outside the sensor drops the pixel's

@@ -204,14 +204,15 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
 
   // Rectified events (DSEC's rectify_map.h5) are pixels of the rectified camera, which has no distortion: a
   // distorted calibration is the raw camera's (docs/reference/formats.md#rectification).
-  if (!summary.rectify_map.empty() && camera.distortionModel() != DistortionModel::kNone) {
-    summary.warnings.push_back(
-        fmt::format("the events are rectified by {} but the calibration {} has {} distortion: rectified "
-                    "events need DSEC's "
-                    "rectified camera (cam_to_cam.yaml intrinsics camRect0, no distortion), or --rectify-map "
-                    "none for the raw "
-                    "camera",
-                    summary.rectify_map, summary.calibration, distortionModelName(camera.distortionModel())));
+  const std::vector<double>& coefficients = camera.coefficients();
+  const bool distorted = camera.distortionModel() != DistortionModel::kNone &&
+                         std::any_of(coefficients.begin(), coefficients.end(), [](double c) { return c != 0.0; });
+  if (!summary.rectify_map.empty() && distorted) {
+    summary.warnings.push_back(fmt::format(
+        "the events are rectified by {} but the calibration {} has {} distortion: rectified events need "
+        "DSEC's rectified camera (cam_to_cam.yaml intrinsics camRect0 or camRect3, no distortion), or "
+        "--rectify-map none for the raw camera",
+        summary.rectify_map, summary.calibration, distortionModelName(camera.distortionModel())));
   }
 
   // Outputs that do not depend on the run come first: a failed run still says how it was configured.
