@@ -267,7 +267,8 @@ bool DsecReader::read(EventPacket& packet) {
   return true;
 }
 
-// Reads records [records_, records_ + n) and appends the events they deliver.
+// Reads records [records_, records_ + n) into `packet`, replacing its events with those they deliver (all
+// of them, or without the ones a rectification map sends outside the sensor).
 void DsecReader::readSlabs(uint64_t n, EventPacket& packet) {
   x_buffer_.resize(n);
   y_buffer_.resize(n);
