@@ -27,9 +27,10 @@ def read_events(
     sensor: Sensor = None,
     topic: str = "",
     max_events: Optional[int] = None,
+    rectify_map: str = "",
 ) -> Dict[str, Any]:
     """Events of a file or dataset folder: {t: int64 ns, x, y: uint16, p: int8 (+1/-1), width, height,
-    format, path, size_origin, stats}."""
+    format, path, size_origin, rectify_map, stats}."""
 
 def check_events(t: npt.ArrayLike, x: npt.ArrayLike, y: npt.ArrayLike, p: npt.ArrayLike, width: int,
                  height: int) -> None:
@@ -45,6 +46,8 @@ def run(
     topic: str = "",
     backend: str = "window",
     out: Optional[PathLike] = None,
+    rectify_map: str = "",
+    camera_info_topic: str = "",
 ) -> Dict[str, Any]:
     """The offline pipeline on a dataset or event arrays: {trajectory (N x 8), knot_t_ns, velocities
     (N x 7), landmarks (M x 3), landmark_ids, landmark_observations, groundtruth, initialized, message,

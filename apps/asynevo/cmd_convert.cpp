@@ -28,6 +28,7 @@ struct ConvertOptions {
   std::string config;
   std::string sensor;
   std::string topic;
+  std::string rectify_map;
   std::string out;
   std::string out_format = "auto";
 };
@@ -77,8 +78,9 @@ void runConvert(const ConvertOptions& options) {
   const Config config = options.config.empty() ? Config() : loadConfig(options.config);
   const DatasetFiles files = resolveDataset(options.dataset, options.format);
   std::vector<std::string> notes;
-  const ReaderOptions reader_options =
-      datasetReaderOptions(files, config, {options.format, options.sensor, "", options.config, options.topic}, &notes);
+  const ReaderOptions reader_options = datasetReaderOptions(
+      files, config, {options.format, options.sensor, "", options.config, options.topic, options.rectify_map},
+      &notes);
   for (const std::string& note : notes) fmt::print("note: {}\n", note);
   auto reader = openEventReader(files.events, reader_options);
   const std::string partial = options.out + ".partial";  // never leave a truncated file under the real name
@@ -103,6 +105,9 @@ void runConvert(const ConvertOptions& options) {
              out_format == "ecd" ? " as ECD text (which stores no sensor size: read it back with --sensor or a "
                                    "sensor.yaml unless it is 240x180)"
                                  : "");
+  if (!reader->info().rectify_map.empty())
+    fmt::print("note: events rectified by {} ({} mapped outside the sensor, dropped)\n",
+               reader->info().rectify_map, reader->stats().rectified_outside);
   if (reader->stats().clamped_times > 0)
     fmt::print("note: {} event times went slightly backwards and were clamped\n", reader->stats().clamped_times);
 }
@@ -117,6 +122,7 @@ void addConvertCommand(CLI::App& app) {
   cmd->add_option("--config", options.config, "configuration YAML (sensor size, time tolerance)");
   addSensorOption(cmd, options.sensor);
   addTopicOption(cmd, options.topic);
+  addRectifyMapOption(cmd, options.rectify_map);
   cmd->add_option("--out", options.out, "output file: .aevt (in a dataset folder: events.aevt) or ECD text .txt")
       ->required();
   cmd->add_option("--out-format", options.out_format, "output format: auto (from the --out extension), aevt, ecd")

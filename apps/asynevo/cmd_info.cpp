@@ -31,7 +31,17 @@ struct InfoOptions {
   std::string sensor;
   std::string topic;
   std::string gt_topic;
+  std::string camera_info_topic;
+  std::string rectify_map;
 };
+
+// The event topic a ROS bag's reader delivers ("" for other formats).
+std::string bagEventTopic(const EventReader& reader) {
+  for (const ContainerStream& t : reader.stats().streams) {
+    if (t.delivered && reader.info().format == "rosbag") return t.name;
+  }
+  return "";
+}
 
 // The streams of a container file (AEDAT 4.0), one line each: id, type, name, size, packets, elements.
 void printContainerStreams(const std::vector<ContainerStream>& streams) {
@@ -72,8 +82,9 @@ void runInfo(const InfoOptions& options) {
   const DatasetFiles files = resolveDataset(options.dataset, options.format);
   checkGroundTruthChoice(files, options.gt_topic);
   std::vector<std::string> notes;
-  const ReaderOptions reader_options =
-      datasetReaderOptions(files, config, {options.format, options.sensor, "", options.config, options.topic}, &notes);
+  const ReaderOptions reader_options = datasetReaderOptions(
+      files, config, {options.format, options.sensor, "", options.config, options.topic, options.rectify_map},
+      &notes);
   auto reader = openEventReader(files.events, reader_options);
   Progress progress;
   int64_t first_t_ns = 0;
@@ -93,6 +104,16 @@ void runInfo(const InfoOptions& options) {
   fmt::print("format        {}\n", info.format);
   fmt::print("sensor        {} x {} (from {})\n", info.width, info.height, info.size_origin);
   for (const std::string& note : notes) fmt::print("              note: {}\n", note);
+  const bool rectified = !info.rectify_map.empty();
+  if (rectified) {
+    fmt::print(
+        "rectification {}: events in the rectified camera's pixels (rounded), {} mapped outside the "
+        "sensor (dropped)\n",
+        info.rectify_map, reader->stats().rectified_outside);
+  } else if (info.format == "dsec") {
+    fmt::print("rectification none: events in raw pixels (no {} beside the events, or --rectify-map none)\n",
+               "rectify_map.h5");
+  }
   fmt::print("events        {}\n", stats.events);
   fmt::print("time span     {} .. {} s ({:.6f} s)\n", first, last, stats.durationSeconds());
   fmt::print("event rate    mean {:.3f} M events/s; over {} ms windows: median {:.3f}, max {:.3f} M events/s (at {:.3f} s)\n",
@@ -128,25 +149,34 @@ void runInfo(const InfoOptions& options) {
     fmt::print("skipped       {} encoded words (vendor extension words, events before the first time base)\n",
                reader->stats().ignored_words);
   }
-  // Calibration: a file beside the events (calib.txt, a camchain) wins over a bag's CameraInfo topic.
+  // Calibration: --camera-info-topic, a file beside the events (calib.txt, a camchain), a bag's CameraInfo
+  // topic (chooseDatasetCalibration).
   const bool bag = info.format == "rosbag";
-  if (files.calibration) {
-    const CameraModel camera = readCalibration(*files.calibration, info.width, info.height);
-    fmt::print("calibration   {}\n              {}\n", *files.calibration, camera.summary());
+  const DatasetCalibration calibration =
+      chooseDatasetCalibration(files, "", options.camera_info_topic, bagEventTopic(*reader));
+  if (!calibration.file.empty()) {
+    const CameraModel camera = readCalibration(calibration.file, info.width, info.height);
+    fmt::print("calibration   {}\n              {}\n", calibration.file, camera.summary());
     if (camera.width() != info.width || camera.height() != info.height)
       fmt::print("              warning: calibration is {}x{} but the events are {}x{}\n", camera.width(),
                  camera.height(), info.width, info.height);
-    if (bag && !rosbagCameraInfoTopics(files.events).empty())
-      fmt::print("              note: the bag's sensor_msgs/CameraInfo topic is not used (the file wins)\n");
-  } else if (const std::optional<BagCalibration> calib = bag ? readRosbagCalibration(files.events) : std::nullopt) {
+    if (!calibration.note.empty()) fmt::print("              note: {}\n", calibration.note);
+  } else if (const std::optional<BagCalibration>& calib = calibration.bag) {
     fmt::print("calibration   {}\n              {}\n", bagTopicSource(files.events, calib->topic),
                calib->camera.summary());
     if (calib->camera.width() != info.width || calib->camera.height() != info.height)
       fmt::print("              warning: the camera info is for {}x{} pixels but the events are {}x{} (a run stops "
                  "with an error)\n",
                  calib->camera.width(), calib->camera.height(), info.width, info.height);
+    if (!calibration.note.empty()) fmt::print("              note: {}\n", calibration.note);
   } else {
     fmt::print("calibration   none found (a run needs --calib)\n");
+  }
+  if (rectified) {
+    fmt::print(
+        "              note: the events are rectified: the calibration that applies is DSEC's "
+        "rectified camera (cam_to_cam.yaml intrinsics camRect0 or camRect3: camera_matrix, no "
+        "distortion), not the raw one\n");
   }
   const std::optional<DatasetGroundTruth> gt = loadDatasetGroundTruth(files, options.gt_topic);
   if (gt) {
@@ -180,6 +210,8 @@ void addInfoCommand(CLI::App& app) {
   cmd->add_option("--config", options.config, "configuration YAML (sensor size, time tolerance)");
   addSensorOption(cmd, options.sensor);
   addTopicOption(cmd, options.topic);
+  addRectifyMapOption(cmd, options.rectify_map);
+  addCameraInfoTopicOption(cmd, options.camera_info_topic);
   addGtTopicOption(cmd, options.gt_topic);
   cmd->callback([] { runInfo(options); });
 }

@@ -91,6 +91,8 @@ void addRunCommand(CLI::App& app) {
   cmd->add_option("--config", run.config_path, "configuration YAML (overrides the defaults; see config/)");
   addSensorOption(cmd, run.sensor);
   addTopicOption(cmd, run.topic);
+  addRectifyMapOption(cmd, run.rectify_map);
+  addCameraInfoTopicOption(cmd, run.camera_info_topic);
   addGtTopicOption(cmd, run.gt_topic);
   cmd->add_option("--backend", options.backend,
                   "estimator: window (AsynEVO), incremental (full-history smoother baseline) or "

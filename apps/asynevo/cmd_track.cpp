@@ -39,6 +39,7 @@ struct TrackOptions {
   std::string calib;
   std::string sensor;
   std::string topic;
+  std::string rectify_map;
   bool eval = false;
 };
 
@@ -115,7 +116,9 @@ void runTrack(const TrackOptions& options) {
   }
   std::vector<std::string> notes;
   const ReaderOptions reader_options = datasetReaderOptions(
-      files, config, {options.format, options.sensor, options.calib, options.config, options.topic}, &notes);
+      files, config,
+      {options.format, options.sensor, options.calib, options.config, options.topic, options.rectify_map},
+      &notes);
   for (const std::string& note : notes) fmt::print("note: {}\n", note);
   auto reader = openEventReader(files.events, reader_options);
   const int width = reader->info().width, height = reader->info().height;
@@ -146,6 +149,9 @@ void runTrack(const TrackOptions& options) {
   sink.close();
   fmt::print("{}", fe.stats().summary());
   fmt::print("wrote             {} lines, {} tracks to {}\n", sink.lines(), sink.tracks(), options.out);
+  if (!reader->info().rectify_map.empty())
+    fmt::print("rectified         by {}: {} events mapped outside the sensor, dropped\n",
+               reader->info().rectify_map, reader->stats().rectified_outside);
   if (ground_truth) {
     fmt::print("{}", sim::evaluateFeatureTracks(sink.all(), *ground_truth).summary());
   }
@@ -163,6 +169,7 @@ void addTrackCommand(CLI::App& app) {
   cmd->add_option("--calib", options.calib, "calibration file (default: the dataset's calib.txt, if any)");
   addSensorOption(cmd, options.sensor);
   addTopicOption(cmd, options.topic);
+  addRectifyMapOption(cmd, options.rectify_map);
   cmd->add_flag("--eval", options.eval,
                 "simulated datasets ('asynevo simulate' folders): compare every track with its exact ground "
                 "truth and print the errors");

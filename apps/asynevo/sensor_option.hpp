@@ -32,6 +32,25 @@ inline CLI::Option* addTopicOption(CLI::App* cmd, std::string& value) {
                          "needed only when the bag has several");
 }
 
+/// The --rectify-map FILE|none option of the same commands: DSEC's rectification map
+/// (docs/reference/formats.md#rectification).
+inline CLI::Option* addRectifyMapOption(CLI::App* cmd, std::string& value) {
+  return cmd->add_option(
+      "--rectify-map", value,
+      "DSEC: the rectification map (rectify_map.h5) to apply to the events, which are then in the "
+      "rectified camera's pixels (calibration: DSEC's camRect0 or camRect3, no distortion); default: the "
+      "rectify_map.h5 beside the events file, if any; 'none' reads raw pixels");
+}
+
+/// The --camera-info-topic NAME option of the commands that read a calibration (info, run): which
+/// sensor_msgs/CameraInfo topic of a ROS bag is the camera (docs/reference/formats_rosbag.md#calibration).
+inline CLI::Option* addCameraInfoTopicOption(CLI::App* cmd, std::string& value) {
+  return cmd->add_option("--camera-info-topic", value,
+                         "ROS bag: the sensor_msgs/CameraInfo topic that is the calibration; needed only when the "
+                         "bag has several and none is in the event topic's namespace (/dvs/events -> "
+                         "/dvs/camera_info); when given it wins over a calibration file beside the bag");
+}
+
 /// The --gt-topic NAME option of the commands that read ground truth (info, run, eval): which pose topic of a
 /// ROS bag is the ground truth (docs/reference/formats_rosbag.md#ground-truth).
 inline CLI::Option* addGtTopicOption(CLI::App* cmd, std::string& value) {

@@ -3,7 +3,9 @@
 // (tests/io/dsec_fixture.hpp): 10 M events at 10 M events/s on 640x480, DSEC's types (x, y uint16, p uint8,
 // t uint32 µs, t_offset, ms_to_idx), chunks of 16384 values, uncompressed and Blosc+Zstd (DSEC's own
 // compression; skipped without the plugin), and Blosc+Zstd in chunks of 2^20 values (4 MB of t, more than
-// libhdf5's default 1 MB chunk cache). Run: build/bin/bench_io --benchmark_filter=Dsec
+// libhdf5's default 1 MB chunk cache); the uncompressed file again through a rectification map (DSEC's
+// rectify_map.h5, a radial stretch that sends the corners outside the sensor). Run:
+// build/bin/bench_io --benchmark_filter=Dsec
 #include <benchmark/benchmark.h>
 #include <hdf5.h>
 
@@ -11,6 +13,7 @@
 #include <filesystem>
 #include <random>
 #include <string>
+#include <utility>
 
 #include "asynevo/io/event_reader.hpp"
 #include "dsec_fixture.hpp"
@@ -48,16 +51,35 @@ std::string dsecFile(bool blosc, hsize_t chunk) {
   return path;
 }
 
-ReaderOptions vga() {
+ReaderOptions vga(const std::string& rectify_map = "none") {
   ReaderOptions options;
   options.width = 640;
   options.height = 480;
+  options.rectify_map = rectify_map;  // "none": whatever lies in the temp folder, read raw pixels
   return options;
+}
+
+// A rectification map for 640x480: a radial stretch about the centre, 1 + 1e-6 r², so corners leave the sensor.
+std::string rectifyMapFile() {
+  const std::string path = (std::filesystem::temp_directory_path() / "asynevo_bench_rectify_map_vga.h5").string();
+  testing::writeRectifyMap(path, testing::rectifyMapValues(640, 480, [](int x, int y) {
+                             const float dx = static_cast<float>(x) - 319.5f, dy = static_cast<float>(y) - 239.5f;
+                             const float s = 1.0f + 1e-6f * (dx * dx + dy * dy);
+                             return std::pair<float, float>{319.5f + s * dx, 239.5f + s * dy};
+                           }),
+                           {480, 640, 2});
+  return path;
 }
 
 void BM_DsecRead10M(benchmark::State& state) {
   static const std::string path = dsecFile(false, 16384);
   benchmarkReadAll(state, path, true, vga());
+}
+
+void BM_DsecRectifiedRead10M(benchmark::State& state) {
+  static const std::string path = dsecFile(false, 16384);
+  static const std::string map = rectifyMapFile();
+  benchmarkReadAll(state, path, true, vga(map));
 }
 
 void BM_DsecBloscZstdRead10M(benchmark::State& state) {
@@ -79,6 +101,7 @@ void BM_DsecBloscZstdBigChunksRead10M(benchmark::State& state) {
 }
 
 BENCHMARK(BM_DsecRead10M)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_DsecRectifiedRead10M)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_DsecBloscZstdRead10M)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_DsecBloscZstdBigChunksRead10M)->Unit(benchmark::kMillisecond)->Iterations(3);
 

@@ -28,7 +28,7 @@ using Clock = std::chrono::steady_clock;
 double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
 py::dict readEvents(const py::object& path_obj, const std::string& format, const py::object& sensor,
-                    const std::string& topic, const py::object& max_events_obj) {
+                    const std::string& topic, const py::object& max_events_obj, const std::string& rectify_map) {
   const std::string path = pathArg(path_obj, "path");
   const auto [width, height] = sensorArg(sensor);
   uint64_t max_events = std::numeric_limits<uint64_t>::max();
@@ -48,6 +48,7 @@ py::dict readEvents(const py::object& path_obj, const std::string& format, const
     DatasetReadSettings settings;
     settings.format = format;
     settings.topic = topic;
+    settings.rectify_map = rectify_map;
     if (width > 0) settings.sensor = fmt::format("{}x{}", width, height);
     const ReaderOptions options = datasetReaderOptions(files, Config(), settings);
     const auto reader = openEventReader(files.events, options);
@@ -75,6 +76,7 @@ py::dict readEvents(const py::object& path_obj, const std::string& format, const
   out["format"] = info.format;
   out["path"] = info.path;
   out["size_origin"] = info.size_origin;
+  out["rectify_map"] = info.rectify_map;
   py::dict s;
   s["events"] = n;
   s["parse_s"] = parse_s;
@@ -84,6 +86,7 @@ py::dict readEvents(const py::object& path_obj, const std::string& format, const
   s["trigger_events"] = stats.trigger_events;
   s["ignored_words"] = stats.ignored_words;
   s["imu_samples"] = stats.imu_samples;
+  s["rectified_outside"] = stats.rectified_outside;
   out["stats"] = s;
   return out;
 }
@@ -105,6 +108,7 @@ or going backwards, x or y not integers or outside width x height, p not bool or
 that is not one-dimensional.)doc");
   m.def("read_events", &readEvents, py::arg("path"), py::arg("format") = "auto",
         py::arg("sensor") = py::none(), py::arg("topic") = "", py::arg("max_events") = py::none(),
+        py::arg("rectify_map") = "",
         R"doc(Reads events from a file or a dataset folder into numpy arrays.
 
 Any format 'asynevo run' reads: ECD text, MVSEC / DSEC-style HDF5, .aevt, Prophesee RAW (EVT 3.0 /
@@ -119,6 +123,8 @@ Args:
   sensor: (width, height) or "WxH" for formats that do not state it (ECD text defaults to 240x180).
   topic: a ROS bag's event topic ("" = its only one).
   max_events: stop after this many events (None = all).
+  rectify_map: DSEC: the rectification map to apply ("" = rectify_map.h5 beside the events, if any;
+    "none" = raw pixels), as --rectify-map.
 
 Returns:
   dict with
@@ -127,8 +133,10 @@ Returns:
     p: int8 polarity, +1 ON, -1 OFF
     width, height: the sensor size; size_origin: where it came from
     format: the format read; path: the event file
+    rectify_map: the rectification map applied ("" = none, raw pixels)
     stats: events, parse_s (time in the reader), convert_s (time filling the numpy arrays),
-           clamped_times, skipped_lines, trigger_events, ignored_words, imu_samples
+           clamped_times, skipped_lines, trigger_events, ignored_words, imu_samples,
+           rectified_outside (events a rectification map sent outside the sensor, dropped)
 )doc");
 }
 

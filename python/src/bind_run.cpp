@@ -107,7 +107,8 @@ pipeline::RunSummary runArrays(const py::handle& source, const py::handle& calib
 
 py::dict run(const py::object& source, const py::object& calib, const py::object& config,
              const std::string& format, const py::object& sensor, const std::string& topic,
-             const std::string& backend, const py::object& out) {
+             const std::string& backend, const py::object& out, const std::string& rectify_map,
+             const std::string& camera_info_topic) {
   const std::optional<pipeline::BackendKind> kind = pipeline::parseBackendKind(backend);
   if (!kind)
     throw py::value_error(
@@ -122,6 +123,8 @@ py::dict run(const py::object& source, const py::object& calib, const py::object
     options.dataset = pathArg(source, "source");
     options.format = format;
     options.topic = topic;
+    options.rectify_map = rectify_map;
+    options.camera_info_topic = camera_info_topic;
     const auto [w, h] = sensorArg(sensor);
     if (w > 0) options.sensor = fmt::format("{}x{}", w, h);
     if (!calib.is_none()) options.calib = pathArg(calib, "calib (with a dataset path)");
@@ -161,7 +164,8 @@ py::dict run(const py::object& source, const py::object& calib, const py::object
 void bindRun(py::module_& m) {
   m.def("run", &run, py::arg("source"), py::arg("calib") = py::none(), py::arg("config") = py::none(),
         py::kw_only(), py::arg("format") = "auto", py::arg("sensor") = py::none(), py::arg("topic") = "",
-        py::arg("backend") = "window", py::arg("out") = py::none(),
+        py::arg("backend") = "window", py::arg("out") = py::none(), py::arg("rectify_map") = "",
+        py::arg("camera_info_topic") = "",
         R"doc(Runs AsynEVO offline, as 'asynevo run' does, and returns the estimate in memory.
 
 The same code as the command line: the reader (or the arrays), the frontend thread, the estimator thread
@@ -178,8 +182,10 @@ Args:
   config: None (the defaults), a YAML file, or a dict of sections, e.g. {"backend": {"knot_dt_ms": 30}}
     (keys as in docs/reference/config.md; unknown keys and bad values raise asynevo.ConfigError or
     asynevo.InputError).
-  format, sensor, topic: as for read_events (dataset source only; arrays take their size from
-    width/height, sensor or the calibration).
+  format, sensor, topic, rectify_map: as for read_events (dataset source only; arrays take their size
+    from width/height, sensor or the calibration).
+  camera_info_topic: a ROS bag's sensor_msgs/CameraInfo topic for the calibration, as
+    --camera-info-topic (dataset source only).
   backend: "window" (AsynEVO), "incremental" or "incremental-frozen" (full-history baselines).
   out: a folder for the run folder files (stamped_traj_estimate.txt, stats.json, ...); None = a temporary
     folder, removed afterwards.

@@ -112,6 +112,11 @@ class CppErrors(unittest.TestCase):
             asynevo.Stream(CALIB, config={"backend": {"knot_dt_ms": -5}})
         self.assertIn("knot_dt_ms", str(cm.exception))
 
+    def test_camera_info_topic_needs_a_bag(self):
+        with self.assertRaises(asynevo.InputError) as cm:
+            asynevo.run(DATA / "ecd" / "shapes_rotation", camera_info_topic="/dvs/camera_info")
+        self.assertIn("--camera-info-topic '/dvs/camera_info' names a topic of a ROS bag", str(cm.exception))
+
     def test_missing_calibration_file(self):
         with self.assertRaises(asynevo.InputError) as cm:
             asynevo.Stream("/nonexistent/calib.txt")

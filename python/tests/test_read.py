@@ -73,6 +73,14 @@ class ReadEvents(unittest.TestCase):
             asynevo.read_events(DATA / "ecd" / "shapes_rotation", sensor=(100, 100))
         self.assertIn("events.txt:", str(cm.exception))
 
+    def test_a_rectification_map_is_for_dsec_files_only(self):
+        ev = asynevo.read_events(DATA / "ecd" / "shapes_rotation", max_events=10, rectify_map="none")
+        self.assertEqual(ev["rectify_map"], "")
+        self.assertEqual(ev["stats"]["rectified_outside"], 0)
+        with self.assertRaises(asynevo.InputError) as cm:
+            asynevo.read_events(DATA / "ecd" / "shapes_rotation", rectify_map="/some/rectify_map.h5")
+        self.assertIn("applies to DSEC-style HDF5 events only", str(cm.exception))
+
     def test_missing_file_names_it(self):
         with self.assertRaises(asynevo.InputError) as cm:
             asynevo.read_events("/nonexistent/events.txt")

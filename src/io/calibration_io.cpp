@@ -180,6 +180,14 @@ CameraModel readKalibrCalibration(const std::string& path, const std::string& ca
   if (!root || root.IsNull()) throw InputError(path, "empty file: expected a Kalibr camchain with " + camera);
   if (!root.IsMap()) throw InputError::atLine(path, lineOf(root), "expected a map of cameras (cam0: ...)");
   const YAML::Node cam = root[camera];
+  // DSEC's cam_to_cam.yaml (DSEC README, "Camera Calibration File"): intrinsics: {cam0..cam3, camRect0..camRect3},
+  // extrinsics: {...}; not a camchain. Say what to give instead.
+  if (!cam && root["intrinsics"] && root["intrinsics"].IsMap() && root["intrinsics"]["camRect0"]) {
+    throw InputError::atLine(path, lineOf(root),
+                             "this is DSEC's cam_to_cam.yaml, which AsynEVO does not read: for rectified events "
+                             "(rectify_map.h5) write camRect0's camera_matrix [fx, fy, cx, cy] (camRect3 for the right "
+                             "camera) as a calib.txt 'fx fy cx cy 0 0 0 0 0' (docs/reference/formats.md#rectification)");
+  }
   if (!cam) throw InputError::atLine(path, lineOf(root), fmt::format("no camera '{}' in the file", camera));
   if (!cam.IsMap()) throw InputError::atLine(path, lineOf(cam), fmt::format("'{}' must be a map", camera));
 

@@ -128,6 +128,43 @@ std::pair<int, int> sensorSizeFromCalibration(const DatasetFiles& files) {
   return {camera.width(), camera.height()};
 }
 
+DatasetCalibration chooseDatasetCalibration(const DatasetFiles& files, const std::string& calib,
+                                            const std::string& camera_info_topic, const std::string& event_topic) {
+  DatasetCalibration result;
+  const bool bag = isRosbag(files.events);
+  if (!camera_info_topic.empty()) {
+    if (!calib.empty()) {
+      throw ConfigError(std::string("--calib ") + calib + " and " + kCameraInfoTopicFlag + " " + camera_info_topic +
+                        " both name the calibration: give one of them");
+    }
+    if (!bag) {
+      throw InputError(files.events, std::string(kCameraInfoTopicFlag) + " '" + camera_info_topic +
+                                         "' names a topic of a ROS bag, but the events file is not a ROS bag");
+    }
+    result.bag = readRosbagCalibration(files.events, camera_info_topic, event_topic);
+    if (files.calibration)
+      result.note = "the file " + *files.calibration + " is not used (" + kCameraInfoTopicFlag + " given)";
+    return result;
+  }
+  if (!calib.empty() || files.calibration) {
+    result.file = !calib.empty() ? calib : *files.calibration;
+    if (bag) {
+      std::string list;
+      for (const std::string& t : rosbagCameraInfoTopics(files.events)) list += (list.empty() ? "" : ", ") + t;
+      if (!list.empty()) {
+        result.note = "the bag's sensor_msgs/CameraInfo topic(s) " + list + " not used: the file wins (" +
+                      kCameraInfoTopicFlag + " NAME reads the bag's)";
+      }
+    }
+    return result;
+  }
+  if (bag) {
+    result.bag = readRosbagCalibration(files.events, "", event_topic);
+    if (result.bag) result.note = result.bag->note;
+  }
+  return result;
+}
+
 void checkGroundTruthChoice(const DatasetFiles& files, const std::string& gt_topic) {
   const bool bag = isRosbag(files.events);
   if (!gt_topic.empty() && !bag) {

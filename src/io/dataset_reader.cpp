@@ -11,6 +11,7 @@ ReaderOptions datasetReaderOptions(const DatasetFiles& files, const Config& conf
   ReaderOptions options;
   options.format = settings.format;
   options.topic = settings.topic;
+  options.rectify_map = settings.rectify_map;
   options.packet_size = config.input.packet_size;
   options.max_time_reversal_ns = std::llround(config.input.max_time_reversal_us * 1e3);
   SensorSizeSources sources;

@@ -37,27 +37,6 @@ std::string filterPluginAdvice(H5Z_filter_t id) {
   }
 }
 
-// Throws when a dataset's filter pipeline names a filter this HDF5 library cannot load (it would only fail
-// later, inside H5Dread, with a message that names no remedy).
-void checkFiltersAvailable(const std::string& path, hid_t dataset, const std::string& name) {
-  const H5PropertyList create(H5Dget_create_plist(dataset));
-  if (!create.valid()) throw InputError(path, fmt::format("cannot read the storage properties of dataset '{}'", name));
-  const int filters = H5Pget_nfilters(create.get());
-  for (int i = 0; i < filters; ++i) {
-    unsigned flags = 0;
-    std::size_t values = 0;
-    char filter_name[64] = {};
-    const H5Z_filter_t id =
-        H5Pget_filter2(create.get(), static_cast<unsigned>(i), &flags, &values, nullptr, sizeof(filter_name),
-                       filter_name, nullptr);
-    if (id < 0) throw InputError(path, fmt::format("cannot read the filter pipeline of dataset '{}'", name));
-    if ((flags & H5Z_FLAG_OPTIONAL) != 0 || H5Zfilter_avail(id) > 0) continue;
-    throw InputError(path, fmt::format("dataset '{}' is compressed with HDF5 filter {} ('{}'), which this HDF5 "
-                                       "library cannot load: {}",
-                                       name, id, filter_name, filterPluginAdvice(id)));
-  }
-}
-
 // A compressed dataset's stored size says nothing about its length (h5CheckStoredSize checks only unfiltered
 // ones), so a corrupt length of 10^12 with no chunks behind it would read as 10^12 fill-value events (all
 // t = 0, x = y = 0: valid) for hours. A file written whole has every chunk: require them all.
@@ -116,7 +95,7 @@ H5Dataset openIntegerColumn(const std::string& path, hid_t file, const std::stri
                                        name));
   }
   h5CheckStoredSize(path, dataset.get(), name.c_str(), dims[0], size);
-  checkFiltersAvailable(path, dataset.get(), name);
+  h5CheckFiltersAvailable(path, dataset.get(), name);
   checkChunksAllocated(path, dataset.get(), name, dims[0]);
   length = dims[0];
   return withChunkCache(file, name, std::move(dataset), size);
@@ -134,6 +113,25 @@ bool readSlab(hid_t dataset, hid_t memory_type, uint64_t start, uint64_t count, 
 }
 
 }  // namespace
+
+void h5CheckFiltersAvailable(const std::string& path, hid_t dataset, const std::string& name) {
+  const H5PropertyList create(H5Dget_create_plist(dataset));
+  if (!create.valid()) throw InputError(path, fmt::format("cannot read the storage properties of dataset '{}'", name));
+  const int filters = H5Pget_nfilters(create.get());
+  for (int i = 0; i < filters; ++i) {
+    unsigned flags = 0;
+    std::size_t values = 0;
+    char filter_name[64] = {};
+    const H5Z_filter_t id =
+        H5Pget_filter2(create.get(), static_cast<unsigned>(i), &flags, &values, nullptr, sizeof(filter_name),
+                       filter_name, nullptr);
+    if (id < 0) throw InputError(path, fmt::format("cannot read the filter pipeline of dataset '{}'", name));
+    if ((flags & H5Z_FLAG_OPTIONAL) != 0 || H5Zfilter_avail(id) > 0) continue;
+    throw InputError(path, fmt::format("dataset '{}' is compressed with HDF5 filter {} ('{}'), which this HDF5 "
+                                       "library cannot load: {}",
+                                       name, id, filter_name, filterPluginAdvice(id)));
+  }
+}
 
 std::string detectHdf5EventFormat(const std::string& path) {
   const H5QuietErrors quiet;
@@ -204,6 +202,13 @@ DsecReader::DsecReader(const std::string& path, const ReaderOptions& options)
   }
   if (group_ == "events" && h5PathExists(file_.get(), "ms_to_idx"))
     ms_index_ = openIntegerColumn(path, file_.get(), "ms_to_idx", ms_entries_);
+
+  // DSEC's rectify_map.h5: named, found beside the events, or turned off with "none".
+  const std::string map = options.rectify_map.empty() ? rectifyMapBeside(path) : options.rectify_map;
+  if (!map.empty() && map != "none") {
+    rectify_.emplace(map, info_.width, info_.height, info_.size_origin);
+    info_.rectify_map = map;
+  }
 }
 
 int64_t DsecReader::msIndexEntry(uint64_t ms) {
@@ -250,18 +255,28 @@ void DsecReader::checkMsIndexEnd() {
 bool DsecReader::read(EventPacket& packet) {
   packet.events.clear();
   packet.first_index = stats_.events;
-  const uint64_t n = std::min<uint64_t>(events_ - stats_.events, static_cast<uint64_t>(packet_size_));
-  if (n == 0) {
-    if (ms_index_.valid()) checkMsIndexEnd();
-    return false;
+  // With a rectification map a slab may lose every event: read on until one is delivered or the file ends.
+  while (packet.events.empty()) {
+    const uint64_t n = std::min<uint64_t>(events_ - records_, static_cast<uint64_t>(packet_size_));
+    if (n == 0) {
+      if (ms_index_.valid()) checkMsIndexEnd();
+      return false;
+    }
+    readSlabs(n, packet);
   }
+  return true;
+}
+
+// Reads records [records_, records_ + n) into `packet`, replacing its events with those they deliver (all
+// of them, or without the ones a rectification map sends outside the sensor).
+void DsecReader::readSlabs(uint64_t n, EventPacket& packet) {
   x_buffer_.resize(n);
   y_buffer_.resize(n);
   p_buffer_.resize(n);
   t_buffer_.resize(n);
   {
     const H5QuietErrors quiet;
-    const uint64_t start = stats_.events;
+    const uint64_t start = records_;
     if (!readSlab(x_.get(), H5T_NATIVE_INT32, start, n, x_buffer_.data()) ||
         !readSlab(y_.get(), H5T_NATIVE_INT32, start, n, y_buffer_.data()) ||
         !readSlab(t_.get(), H5T_NATIVE_INT64, start, n, t_buffer_.data()) ||
@@ -270,22 +285,30 @@ bool DsecReader::read(EventPacket& packet) {
     }
   }
   packet.events.resize(n);
+  std::size_t kept = 0;
   const bool check_index = ms_index_.valid();
   for (uint64_t i = 0; i < n; ++i) {
-    const uint64_t record = stats_.events + i;
+    const uint64_t record = records_ + i;
     const int64_t t_raw = t_buffer_[i];
     int64_t t_us = 0;
     if (__builtin_add_overflow(t_raw, t_offset_us_, &t_us) || t_us > kMaxTimeUs || t_us < -kMaxTimeUs) {
       throw InputError::atRecord(info_.path, record,
                                  fmt::format("time {} µs (+ t_offset {} µs) is out of range", t_raw, t_offset_us_));
     }
-    if (!checker_.accept(t_us * 1000, x_buffer_[i], y_buffer_[i], p_buffer_[i], packet.events[i], error_))
+    Event& event = packet.events[kept];
+    if (!checker_.accept(t_us * 1000, x_buffer_[i], y_buffer_[i], p_buffer_[i], event, error_))
       throw InputError::atRecord(info_.path, record, error_);
     if (check_index) checkMsIndex(record, t_raw);
+    if (rectify_ && !rectify_->map(event.x, event.y, event.x, event.y)) {
+      ++stats_.rectified_outside;
+      continue;
+    }
+    ++kept;
   }
-  stats_.events += n;
+  packet.events.resize(kept);
+  records_ += n;
+  stats_.events += kept;
   stats_.clamped_times = checker_.clamped();
-  return true;
 }
 
 }  // namespace asynevo::io_detail

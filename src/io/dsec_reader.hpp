@@ -4,13 +4,17 @@
 // optional ms_to_idx (ms → index of the first event at or after it), as DSEC and TUM-VIE write them; M3ED's
 // prophesee/left/{x, y, t, p} is read too. The four fields are read in hyperslabs of packet_size values, so
 // memory stays bounded whatever the file size. Compressed datasets (DSEC: Blosc + Zstd) need the HDF5
-// filter plugin; a missing one is reported with the Debian package that provides it.
+// filter plugin; a missing one is reported with the Debian package that provides it. With a rectification map
+// (rectify_map.h5 beside the events, or ReaderOptions::rectify_map; io/dsec_rectify.hpp) the events are
+// delivered in the rectified camera's pixels, and events mapped outside the sensor are dropped and counted.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "asynevo/io/event_reader.hpp"
+#include "dsec_rectify.hpp"
 #include "event_checker.hpp"
 #include "hdf5_handle.hpp"
 
@@ -20,6 +24,10 @@ namespace asynevo::io_detail {
 /// MVSEC reader then names what is missing). For --format auto after the HDF5 signature.
 std::string detectHdf5EventFormat(const std::string& path);
 
+/// Throws InputError when a dataset's filter pipeline names a filter this HDF5 library cannot load (it would
+/// only fail later, inside H5Dread, with a message that names no remedy); the message names the Debian package.
+void h5CheckFiltersAvailable(const std::string& path, hid_t dataset, const std::string& name);
+
 class DsecReader final : public EventReader {
  public:
   DsecReader(const std::string& path, const ReaderOptions& options);
@@ -28,6 +36,7 @@ class DsecReader final : public EventReader {
   const ReaderStats& stats() const override { return stats_; }
 
  private:
+  void readSlabs(uint64_t n, EventPacket& packet);
   int64_t msIndexEntry(uint64_t ms);
   void checkMsIndex(uint64_t record, int64_t t_raw_us);
   void checkMsIndexEnd();
@@ -39,6 +48,8 @@ class DsecReader final : public EventReader {
   H5Dataset x_, y_, t_, p_;
   H5Dataset ms_index_;            // ms_to_idx, when present
   uint64_t events_ = 0;           // values in each of x, y, t, p
+  uint64_t records_ = 0;          // records read so far (delivered, or dropped by the rectification)
+  std::optional<RectifyMap> rectify_;
   uint64_t ms_entries_ = 0;       // values in ms_to_idx
   uint64_t next_ms_ = 0;          // the next ms_to_idx entry to verify
   uint64_t ms_buffer_start_ = 0;  // ms of ms_buffer_[0]

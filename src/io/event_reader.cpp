@@ -1,14 +1,16 @@
 // Format detection and the reader factory.
 #include "asynevo/io/event_reader.hpp"
 
+#include <fmt/format.h>
+
 #include <cerrno>
 #include <cstring>
 
+#include "aedat4_header.hpp"
+#include "aedat4_reader.hpp"
 #include "asynevo/core/error.hpp"
 #include "asynevo/io/event_file.hpp"
 #include "asynevo/io/file_handle.hpp"
-#include "aedat4_header.hpp"
-#include "aedat4_reader.hpp"
 #include "dsec_reader.hpp"
 #include "ecd_text_reader.hpp"
 #include "event_file_reader.hpp"
@@ -73,6 +75,13 @@ std::string detectFormat(const std::string& path) {
 std::unique_ptr<EventReader> openEventReader(const std::string& path, const ReaderOptions& options) {
   if (options.packet_size <= 0) throw ConfigError("packet size must be positive");
   const std::string format = options.format == "auto" ? detectFormat(path) : options.format;
+  // A named rectification map is a request: a format that cannot apply one says so instead of ignoring it.
+  if (!options.rectify_map.empty() && options.rectify_map != "none" && format != "dsec") {
+    throw InputError(path,
+                     fmt::format("a rectification map ({}) applies to DSEC-style HDF5 events only, and this "
+                                 "file is of format {}",
+                                 options.rectify_map, format));
+  }
   if (format == "ecd") return std::make_unique<io_detail::EcdTextReader>(path, options);
   if (format == "mvsec") return std::make_unique<io_detail::MvsecReader>(path, options);
   if (format == "aevt") return std::make_unique<io_detail::EventFileReader>(path, options);

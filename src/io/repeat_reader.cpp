@@ -46,6 +46,7 @@ class RepeatingReader : public EventReader {
   void accumulate(const ReaderStats& s) {
     stats_.clamped_times += s.clamped_times;
     stats_.skipped_lines += s.skipped_lines;
+    stats_.rectified_outside += s.rectified_outside;
   }
 
   std::function<std::unique_ptr<EventReader>()> open_;

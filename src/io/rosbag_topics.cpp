@@ -48,6 +48,7 @@ constexpr const char* kOdometryMd5 = "cd5e73d190d741a2f92e81eda573aca7";
 constexpr const char* kTfMessage = "tf2_msgs/TFMessage";
 constexpr const char* kTfMessageOld = "tf/tfMessage";  // ROS1's first tf package, same definition and sum
 constexpr const char* kTfMessageMd5 = "94810edda583a504dfda3829e70d7eec";
+constexpr const char* kEventArray = "dvs_msgs/EventArray";
 constexpr const char* kEventPacket = "event_camera_msgs/EventPacket";
 constexpr const char* kEventPacketMd5 = "8a6101b351a64529ac77bd8b71074e52";
 constexpr const char* kCameraInfo = "sensor_msgs/CameraInfo";
@@ -319,12 +320,55 @@ std::optional<int64_t> rosbagFirstPacketStamp(const std::string& path, const std
   return m.header();
 }
 
-std::optional<BagCalibration> readRosbagCalibration(const std::string& path) {
+namespace {
+
+/// A ROS name's namespace: what precedes its last '/' ("/dvs/events" -> "/dvs", "/events" -> "/"). Graph
+/// resource names, wiki.ros.org/Names.
+std::string rosNamespace(const std::string& name) {
+  const std::size_t slash = name.rfind('/');
+  return slash == std::string::npos || slash == 0 ? "/" : name.substr(0, slash);
+}
+
+}  // namespace
+
+std::optional<BagCalibration> readRosbagCalibration(const std::string& path, const std::string& topic,
+                                                    const std::string& event_topic) {
   io_detail::BagTopicQuery query;
   query.types = {{kCameraInfo, kCameraInfoMd5}};
-  query.flag = "--calib FILE";  // no option chooses among CameraInfo topics: a file replaces them
+  query.topic = topic;
+  query.flag = kCameraInfoTopicFlag;
   query.what = "camera info";
-  query.choose = "; give the camera's calibration as a file (--calib FILE, or calib.txt or a camchain beside the bag)";
+  const std::string advice = fmt::format("; choose one with {} NAME, or give the camera's calibration as a file "
+                                         "(--calib FILE, or calib.txt or a camchain beside the bag)",
+                                         kCameraInfoTopicFlag);
+  query.choose = advice;
+  std::string note;
+  // Several CameraInfo topics and none named: the one beside the event topic (a stereo or multi-camera bag).
+  const std::vector<std::string> infos = topic.empty() ? rosbagCameraInfoTopics(path) : std::vector<std::string>{};
+  if (infos.size() > 1) {
+    std::string events = event_topic;
+    if (events.empty()) {
+      const std::vector<std::string> all = topicsOfTypes(path, {kEventArray, kEventPacket});
+      if (all.size() == 1) events = all.front();
+    }
+    if (!events.empty()) {
+      const std::string ns = rosNamespace(events);
+      std::vector<std::string> near;
+      for (const std::string& name : infos) {
+        if (rosNamespace(name) == ns) near.push_back(name);
+      }
+      if (near.size() == 1) {
+        query.topic = near.front();
+        note = fmt::format("chosen among {} CameraInfo topics as the one in the namespace {} of the event topic {} ({} "
+                           "NAME chooses another)",
+                           infos.size(), ns, events, kCameraInfoTopicFlag);
+      } else {
+        query.choose = fmt::format("; {} in the namespace {} of the event topic {}{}",
+                                   near.empty() ? std::string("none is") : fmt::format("{} are", near.size()), ns,
+                                   events, advice);
+      }
+    }
+  }
   io_detail::RosbagReader bag(path, query);
   if (!bag.hasTopic()) return std::nullopt;
   uint64_t messages = 0;
@@ -333,7 +377,10 @@ std::optional<BagCalibration> readRosbagCalibration(const std::string& path) {
   }
   const unsigned char* data = nullptr;
   std::size_t size = 0;
-  if (!bag.nextRawMessage(data, size)) return std::nullopt;
+  if (!bag.nextRawMessage(data, size)) {
+    if (topic.empty()) return std::nullopt;
+    throw InputError(path, fmt::format("the camera info topic {} ({}) has no messages", topic, kCameraInfoTopicFlag));
+  }
   Cursor m(bag, data, size);
   m.header();
   const uint32_t height = m.u32("height");
@@ -351,7 +398,7 @@ std::optional<BagCalibration> readRosbagCalibration(const std::string& path) {
   m.skip(4 * 2 + 4 * 4 + 1, "binning and roi");
   m.end(kCameraInfo);
   try {
-    return BagCalibration{cameraFromCameraInfo(info), bag.topic(), messages};
+    return BagCalibration{cameraFromCameraInfo(info), bag.topic(), messages, note};
   } catch (const Error& e) {
     bag.failInMessage(e.what());
   }

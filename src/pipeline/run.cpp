@@ -148,11 +148,14 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
   Config config = options.config ? *options.config
                                  : (options.config_path.empty() ? Config() : loadConfig(options.config_path));
   const DatasetFiles files = resolveDataset(options.dataset, options.format);
-  const std::string calib = !options.calib.empty() ? options.calib : files.calibration.value_or("");
-  // A ROS bag's sensor_msgs/CameraInfo topic is the calibration when no file is given or found beside it.
-  std::optional<BagCalibration> bag_calib;
+  // --calib, --camera-info-topic, a file beside the events, a ROS bag's CameraInfo topic
+  // (chooseDatasetCalibration).
+  const DatasetCalibration calibration =
+      chooseDatasetCalibration(files, options.calib, options.camera_info_topic, options.topic);
+  const std::string& calib = calibration.file;
+  const std::optional<BagCalibration>& bag_calib = calibration.bag;
+  if (bag_calib && !calibration.note.empty()) summary.warnings.push_back("calibration: " + calibration.note);
   const bool bag = isRosbag(files.events);
-  if (calib.empty() && bag) bag_calib = readRosbagCalibration(files.events);
   if (calib.empty() && !bag_calib)
     throw InputError(files.root,
                      std::string("no camera calibration: the dataset folder has no calib.txt or Kalibr camchain .yaml") +
@@ -161,8 +164,11 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
 
   // The sensor size by precedence: --sensor, the configuration's sensor block, sensor.yaml, a camchain's
   // resolution, the format (io/sensor_size.hpp).
-  const ReaderOptions reader_options = datasetReaderOptions(
-      files, config, {options.format, options.sensor, options.calib, options.config_path, options.topic}, &summary.warnings);
+  const ReaderOptions reader_options =
+      datasetReaderOptions(files, config,
+                           {options.format, options.sensor, options.calib, options.config_path, options.topic,
+                            options.rectify_map},
+                           &summary.warnings);
   if (options.repeat < 1) throw ConfigError(fmt::format("--repeat must be at least 1, not {}", options.repeat));
   std::unique_ptr<EventReader> reader =
       options.repeat == 1
@@ -173,6 +179,7 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
   summary.width = reader->info().width;
   summary.height = reader->info().height;
   summary.size_origin = reader->info().size_origin;
+  summary.rectify_map = reader->info().rectify_map;
   config.sensor.width = summary.width;
   config.sensor.height = summary.height;
   config.validate();
@@ -195,9 +202,23 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
                            summary.size_origin));
   }
 
+  // Rectified events (DSEC's rectify_map.h5) are pixels of the rectified camera, which has no distortion: a
+  // distorted calibration is the raw camera's (docs/reference/formats.md#rectification).
+  const std::vector<double>& coefficients = camera.coefficients();
+  const bool distorted = camera.distortionModel() != DistortionModel::kNone &&
+                         std::any_of(coefficients.begin(), coefficients.end(), [](double c) { return c != 0.0; });
+  if (!summary.rectify_map.empty() && distorted) {
+    summary.warnings.push_back(fmt::format(
+        "the events are rectified by {} but the calibration {} has {} distortion: rectified events need "
+        "DSEC's rectified camera (cam_to_cam.yaml intrinsics camRect0 or camRect3, no distortion), or "
+        "--rectify-map none for the raw camera",
+        summary.rectify_map, summary.calibration, distortionModelName(camera.distortionModel())));
+  }
+
   // Outputs that do not depend on the run come first: a failed run still says how it was configured.
   RunFolderWriter writer(options.out);
   runEvents(*reader, camera, config, options, writer, summary, progress, observer);
+  summary.rectified_outside = reader->stats().rectified_outside;
 
   // The ground truth: --gt-topic, else a file beside the events, else a bag's only pose topic
   // (loadDatasetGroundTruth). Problems are warnings: the estimate is written either way.
@@ -287,6 +308,9 @@ std::string runSummaryText(const RunSummary& s) {
     t += fmt::format("backend lag     max {:.3f} s, mean {:.3f} s\n", p.max_lag_ns * 1e-9,
                      p.mean_lag_ns * 1e-9);
   if (!s.calibration.empty()) t += fmt::format("calibration     {}\n", s.calibration);
+  if (!s.rectify_map.empty())
+    t += fmt::format("rectified       by {}: {} events mapped outside the sensor, dropped\n", s.rectify_map,
+                     s.rectified_outside);
   if (!s.groundtruth.empty())
     t += fmt::format("ground truth    {} ({} poses in the event span written)\n", s.groundtruth,
                      s.groundtruth_poses.value_or(0));
@@ -307,6 +331,8 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("width", s.width)
       .add("height", s.height)
       .add("size_origin", s.size_origin)
+      .add("rectify_map", s.rectify_map)
+      .add("rectified_outside", s.rectified_outside)
       .add("calibration", s.calibration)
       .add("groundtruth", s.groundtruth)
       .add("first_event_s", nsToSeconds(p.first_t_ns))

@@ -152,9 +152,47 @@ TEST(RosbagCli, CameraInfoOfAnotherSizeIsAnError) {
   dir.write("calib.txt", "199 198 120 90 0 0 0 0 0\n");
   const auto with_file = runAsynevo("info --dataset " + dir.path().string());
   EXPECT_NE(with_file.output.find("calib.txt"), std::string::npos) << with_file.output;
-  EXPECT_NE(with_file.output.find("note: the bag's sensor_msgs/CameraInfo topic is not used (the file wins)"),
+  EXPECT_NE(with_file.output.find("note: the bag's sensor_msgs/CameraInfo topic(s) /dvs/camera_info not used: the file wins "
+                                  "(--camera-info-topic NAME reads the bag's)"),
             std::string::npos)
       << with_file.output;
+}
+
+// Two CameraInfo topics: the one in the event topic's namespace, or --camera-info-topic.
+TEST(RosbagCli, CameraInfoTopicChoice) {
+  TempDir dir;
+  const bag::Connection rgb{4, "/rgb/camera_info", bag::kCameraInfoType, bag::kCameraInfoMd5, "(definition)"};
+  std::vector<bag::DvsEvent> events;
+  for (int i = 0; i < 100; ++i)
+    events.push_back({static_cast<uint16_t>(i % 240), static_cast<uint16_t>(i % 180), kT0 + uint64_t(i) * 1000, true});
+  const std::string path = dir.write(
+      "two_cameras.bag",
+      bag::buildBag({kDvs, kInfo, rgb},
+                    {bag::Chunk{{{0, kT0, bag::eventArray(240, 180, events)},
+                                 {2, kT0, bag::cameraInfo(240, 180, "plumb_bob", {}, 199.0, 198.0, 120.0, 90.0)},
+                                 {4, kT0, bag::cameraInfo(640, 480, "plumb_bob", {}, 500.0, 500.0, 320.0, 240.0)}}}}));
+  const auto info = runAsynevo("info --dataset " + path);
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_NE(info.output.find("calibration   " + path + " (topic /dvs/camera_info)"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("note: chosen among 2 CameraInfo topics as the one in the namespace /dvs of the event "
+                             "topic /dvs/events"),
+            std::string::npos)
+      << info.output;
+  const auto named = runAsynevo("info --dataset " + path + " --camera-info-topic /rgb/camera_info");
+  ASSERT_EQ(named.exit_code, 0) << named.output;
+  EXPECT_NE(named.output.find("calibration   " + path + " (topic /rgb/camera_info)"), std::string::npos)
+      << named.output;
+  EXPECT_NE(named.output.find("warning: the camera info is for 640x480 pixels but the events are 240x180"),
+            std::string::npos)
+      << named.output;
+  const auto missing = runAsynevo("info --dataset " + path + " --camera-info-topic /nope");
+  EXPECT_EQ(missing.exit_code, 1) << missing.output;
+  EXPECT_NE(missing.output.find("the bag has no topic '/nope' (--camera-info-topic)"), std::string::npos)
+      << missing.output;
+  const auto both = runAsynevo("run --dataset " + path + " --calib " + dir.file("calib.txt") +
+                               " --camera-info-topic /rgb/camera_info --out " + dir.file("run"));
+  EXPECT_EQ(both.exit_code, 1) << both.output;
+  EXPECT_NE(both.output.find("both name the calibration: give one of them"), std::string::npos) << both.output;
 }
 
 TEST(RosbagCli, InfoShowsBothClocksOfAnEventPacketBag) {

@@ -194,6 +194,17 @@ TEST(KalibrCalibration, BadInputNamesFileAndLine) {
   EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(no_cam); }),
             no_cam + ":1: no camera 'cam0' in the file");
 
+  // DSEC's cam_to_cam.yaml is not a camchain: the message says what to give instead.
+  const std::string dsec = dir.write("cam_to_cam.yaml",
+                                     "intrinsics:\n  cam0:\n    camera_matrix: [555.6, 555.8, 342.5, 215.2]\n"
+                                     "  camRect0:\n    camera_matrix: [569.7, 569.7, 335.0, 221.2]\n"
+                                     "    resolution: [640, 480]\nextrinsics:\n  R_rect0: [[1, 0, 0], [0, 1, 0], "
+                                     "[0, 0, 1]]\n");
+  EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(dsec); }),
+            dsec + ":1: this is DSEC's cam_to_cam.yaml, which AsynEVO does not read: for rectified events "
+                   "(rectify_map.h5) write camRect0's camera_matrix [fx, fy, cx, cy] (camRect3 for the right camera) "
+                   "as a calib.txt 'fx fy cx cy 0 0 0 0 0' (docs/reference/formats.md#rectification)");
+
   const std::string omni =
       dir.write("omni.yaml", kalibrWith("radtan", "[0, 0, 0, 0]", "[1, 2, 3, 4]", "[240, 180]", "omni"));
   EXPECT_EQ(inputErrorOf([&] { readKalibrCalibration(omni); }),

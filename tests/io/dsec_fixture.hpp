@@ -5,12 +5,15 @@
 //   t_offset int64 scalar (µs), ms_to_idx uint64 (ms → index of the first event with t ≥ ms·1000),
 // chunked, optionally with a compression filter (DSEC: Blosc with Zstd, HDF5 filter 32001).
 // Variants: TUM-VIE (int64 t, no t_offset) and M3ED (group prophesee/left).
+// DSEC's rectification map (rectify_map.h5): one dataset rectify_map of shape (height, width, 2), float32,
+// indexed [y, x], holding the rectified [x, y] (the DSEC scripts' Sequence.rectify_events).
 
 #include <hdf5.h>
 
 #include <algorithm>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace asynevo::testing {
@@ -93,6 +96,33 @@ inline void writeDsecEvents(const std::string& path, const DsecEvents& events, c
   }
   H5Pclose(lcpl);
   H5Fclose(file);
+}
+
+/// A rectify_map.h5 with `values` (row-major over `dims`) in dataset `name`, stored as `type`.
+inline void writeRectifyMap(const std::string& path, const std::vector<float>& values,
+                            const std::vector<hsize_t>& dims, const std::string& name = "rectify_map",
+                            hid_t type = H5T_IEEE_F32LE) {
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+  const hid_t dataset = H5Dcreate2(file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  H5Dwrite(dataset, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+  H5Dclose(dataset);
+  H5Sclose(space);
+  H5Fclose(file);
+}
+
+/// The map of a `width` x `height` sensor that sends raw pixel (x, y) to `f(x, y)` = {x', y'}.
+template <typename F>
+std::vector<float> rectifyMapValues(int width, int height, F f) {
+  std::vector<float> values;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const std::pair<float, float> target = f(x, y);
+      values.push_back(target.first);
+      values.push_back(target.second);
+    }
+  }
+  return values;
 }
 
 /// `n` events at 1 event per 7 µs from t = 3 µs, pixels inside 640x480, polarity alternating in runs.

@@ -50,7 +50,7 @@ TEST(RepeatReader, OnePassIsTheStreamItselfAndAnEmptyPassIsAnError) {
 
   // A stream that has no events (a reader that ends at once) cannot be repeated.
   struct NoEvents : EventReader {
-    StreamInfo info_{"nothing.aevt", "aevt", 240, 180, "the .aevt header"};
+    StreamInfo info_{"nothing.aevt", "aevt", 240, 180, "the .aevt header", ""};
     ReaderStats stats_;
     bool read(EventPacket& p) override {
       p.events.clear();

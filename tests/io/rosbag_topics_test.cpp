@@ -315,7 +315,8 @@ TEST(RosbagCalibration, BadCameraInfo) {
   cut.resize(cut.size() - 1);
   EXPECT_NE(errorFor("cut.bag", cut).find("malformed message: binning and roi needs 25 bytes"), std::string::npos)
       << errorFor("cut.bag", cut);
-  // Two CameraInfo topics: no option chooses; the error lists them.
+  // Two CameraInfo topics and no event topic to choose by: the error lists them
+  // (tests/io/rosbag_camera_info_test.cpp: the choice).
   bag::Connection right = kInfo;
   right.id = 5;
   right.topic = "/right/camera_info";
@@ -324,7 +325,8 @@ TEST(RosbagCalibration, BadCameraInfo) {
                                                             {5, kT0, bag::cameraInfo(240, 180, "plumb_bob", {}, 1, 1, 1, 1)}}}}));
   EXPECT_NE(bagError([&] { readRosbagCalibration(two); })
                 .find("the bag has 2 camera info topics: /dvs/camera_info (sensor_msgs/CameraInfo, 1 messages), "
-                      "/right/camera_info (sensor_msgs/CameraInfo, 1 messages); give the camera's calibration as a file"),
+                      "/right/camera_info (sensor_msgs/CameraInfo, 1 messages); choose one with --camera-info-topic NAME, "
+                      "or give the camera's calibration as a file"),
             std::string::npos)
       << bagError([&] { readRosbagCalibration(two); });
   EXPECT_EQ(rosbagCameraInfoTopics(two).size(), 2u);

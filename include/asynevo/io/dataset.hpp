@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "asynevo/core/stamped_pose.hpp"
+#include "asynevo/io/rosbag_topics.hpp"
 
 namespace asynevo {
 
@@ -36,6 +37,25 @@ bool isKalibrCalibration(const std::string& path);
 /// size with chooseSensorSize (io/sensor_size.hpp), which ranks this below --sensor, the configuration
 /// and sensor.yaml.
 std::pair<int, int> sensorSizeFromCalibration(const DatasetFiles& files);
+
+/// Where a dataset's camera calibration comes from.
+struct DatasetCalibration {
+  std::string file;                   ///< the calibration file ("" = the bag's CameraInfo topic, or none)
+  std::optional<BagCalibration> bag;  ///< the camera of a ROS bag's CameraInfo topic, when that is the source
+  std::string note;                   ///< what else was there and is not used, or how the topic was chosen
+};
+
+/// The dataset's calibration, by this rule (docs/reference/formats_rosbag.md#calibration):
+///   1. `calib` (--calib FILE);
+///   2. `camera_info_topic` (--camera-info-topic): that CameraInfo topic of the bag (an error with --calib, or
+///      when the events file is not a ROS bag);
+///   3. a calibration file beside the events (files.calibration: calib.txt, a camchain) — it wins over the
+///      bag's CameraInfo topics, which `note` then names;
+///   4. the bag's CameraInfo topic (readRosbagCalibration: the only one, or the one in the namespace of
+///      `event_topic`, the --topic that is read).
+/// Neither `file` nor `bag` set when there is none. Read errors are InputErrors.
+DatasetCalibration chooseDatasetCalibration(const DatasetFiles& files, const std::string& calib,
+                                            const std::string& camera_info_topic, const std::string& event_topic);
 
 /// A dataset's ground truth and where it came from.
 struct DatasetGroundTruth {

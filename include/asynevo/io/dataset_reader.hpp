@@ -19,6 +19,7 @@ struct DatasetReadSettings {
   std::string calib;            ///< --calib, "" = the dataset's own calibration
   std::string config_path;      ///< --config, to name it in messages ("" = "the configuration")
   std::string topic;            ///< --topic NAME (ROS bags), "" = the bag's only event topic
+  std::string rectify_map;  ///< --rectify-map FILE|none (DSEC), "" = rectify_map.h5 beside the events if any
 };
 
 /// Options for openEventReader(files.events, ...). The configuration's sensor size counts only when a

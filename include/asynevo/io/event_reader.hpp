@@ -27,6 +27,10 @@ struct ReaderOptions {
   /// Where width and height were set, for messages ("--sensor", "the configuration c.yaml", ...; see
   /// io/sensor_size.hpp). A size that differs from the one a file's header states is an error naming it.
   std::string size_origin = "the reader options";
+  /// DSEC: the rectification map (rectify_map.h5) applied to the events. "" = the rectify_map.h5 beside the
+  /// events file when there is one, "none" = no rectification (raw pixels), else the map file. Other formats
+  /// reject a map file.
+  std::string rectify_map;
   int packet_size = 65536;            ///< events per packet
   int64_t max_time_reversal_ns = 0;   ///< backward steps up to this are clamped to the previous time
 };
@@ -39,6 +43,9 @@ struct StreamInfo {
   int height = 0;
   std::string size_origin;  ///< where width and height came from: ReaderOptions::size_origin, or the format's
                             ///< ("the ECD text default", "the .aevt header", ...)
+  /// The rectification map applied to the events (DSEC's rectify_map.h5): they are then in the rectified
+  /// camera's pixels. "" = none, events in raw pixels.
+  std::string rectify_map;
 };
 
 /// One stream of a container file that holds several (AEDAT 4.0: events, frames, IMU, triggers; ROS bag:
@@ -63,6 +70,8 @@ struct ReaderStats {
   uint64_t ignored_words = 0;    ///< encoded words skipped: vendor extensions (Prophesee OTHERS/CONTINUED) and
                                  ///< events before the stream's first time base or row
   uint64_t imu_samples = 0;      ///< IMU samples in the file (counted, not delivered; AEDAT 4.0)
+  uint64_t rectified_outside = 0;  ///< events whose rectified pixel is outside the sensor (dropped; DSEC with
+                                   ///< a rectification map)
   std::vector<ContainerStream> streams;  ///< the streams of a container file (AEDAT 4.0); empty otherwise
 };
 

@@ -20,6 +20,8 @@ bool isRosbag(const std::string& path);
 
 /// The option that names a bag's pose topic, in messages.
 inline constexpr const char* kGroundTruthTopicFlag = "--gt-topic";
+/// The option that names a bag's CameraInfo topic, in messages.
+inline constexpr const char* kCameraInfoTopicFlag = "--camera-info-topic";
 
 struct BagGroundTruth {
   StampedTrajectory poses;  ///< T_w_c per message, stamped with the header's stamp (ROS time)
@@ -50,11 +52,19 @@ struct BagCalibration {
   CameraModel camera;
   std::string topic;
   uint64_t messages = 0;  ///< messages of the topic (only the first is used)
+  std::string note;       ///< how the topic was chosen among several ("" = named, or the only one)
 };
 
-/// The camera of the bag's sensor_msgs/CameraInfo topic (its first message); std::nullopt when the bag has
-/// no such topic or the topic has no message. Several CameraInfo topics are an InputError listing them.
-std::optional<BagCalibration> readRosbagCalibration(const std::string& path);
+/// The camera of a sensor_msgs/CameraInfo topic of the bag (its first message):
+///   1. `topic` (--camera-info-topic) when given: an InputError when the bag lacks it, it is of another type
+///      or revision, or it has no message;
+///   2. else the bag's only CameraInfo topic;
+///   3. else, among several, the only one in the namespace of the event topic (`event_topic`, or the bag's only
+///      event topic when ""): /dvs/events -> /dvs/camera_info. Still several (or none there): an InputError
+///      listing them.
+/// std::nullopt when the bag has no CameraInfo topic (and none is named) or its topic has no message.
+std::optional<BagCalibration> readRosbagCalibration(const std::string& path, const std::string& topic = "",
+                                                    const std::string& event_topic = "");
 
 /// The header stamp (ROS time, ns) of the first message of an event_camera_msgs/EventPacket topic, whose
 /// events carry the camera's clock instead; std::nullopt when `topic` is not such a topic or has no message.

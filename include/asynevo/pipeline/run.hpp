@@ -39,6 +39,10 @@ struct RunOptions {
   std::string sensor;            ///< --sensor WxH ("" = from the configuration or the dataset, io/sensor_size.hpp)
   std::string calib;             ///< "" = the dataset's own calibration file
   std::string topic;             ///< --topic: a ROS bag's event topic ("" = its only one)
+  std::string rectify_map;       ///< --rectify-map: DSEC's rectification map ("" = rectify_map.h5 beside the
+                                 ///< events if any, "none" = raw pixels)
+  std::string camera_info_topic;  ///< --camera-info-topic: a ROS bag's CameraInfo topic for the calibration
+                                  ///< ("" = the rule of io/dataset.hpp chooseDatasetCalibration)
   std::string gt_topic;          ///< --gt-topic: a ROS bag's pose topic for the ground truth ("" = the rule of
                                  ///< io/dataset.hpp loadDatasetGroundTruth)
   std::string config_path;       ///< "" = defaults (or `config` below)
@@ -61,6 +65,8 @@ struct RunSummary {
   std::string format;
   int width = 0, height = 0;
   std::string size_origin;  ///< where width and height came from
+  std::string rectify_map;  ///< the rectification map applied to the events ("" = none)
+  uint64_t rectified_outside = 0;  ///< events the rectification mapped outside the sensor (dropped)
   Config config;  ///< effective configuration
   std::string backend_name;
   PipelineStats pipeline;
