@@ -76,7 +76,7 @@ struct BackendConfig {
   double init_relaxed_fraction = 0.5;
   /// Attempts still failing this long after the first measurement (event time): the counts are
   /// multiplied by init_relaxed_fraction once more, for scenes with very few features. 0 = never.
-  double init_relax_again_after_ms = 0.0;
+  double init_relax_again_after_ms = 1000.0;
   /// Which start is tried: "two-view" (two times, five-point RANSAC), "multi-view" (one constant twist
   /// fitted to every track of the window) or "both" (two-view first; once the counts are relaxed,
   /// multi-view when it fails).
