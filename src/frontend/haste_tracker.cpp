@@ -288,12 +288,13 @@ TrackerResult HasteTracker::pushInRange(int64_t t_ns, float x, float y) {
   if (!healthy_) return TrackerResult::kRegular;
 
   // Slide the window: the oldest event leaves, the new one enters.
-  const WindowEvent evicted = window_[head_];
-  window_[head_] = e;
+  const int index = head_;
+  const WindowEvent evicted = window_[index];
+  window_[index] = e;
   head_ = head_ + 1 == kWindow ? 0 : head_ + 1;
   addMoments(e, 1.0);
   addMoments(evicted, -1.0);
-  updateScores(e, evicted);
+  updateScores(index, e, evicted);
 
   // Hysteresis decision (reference §6.4) with explicit guards against NaN and all-equal scores.
   const double null_score = scores_[0];
@@ -380,7 +381,7 @@ void HasteDifferenceStar::rebuildScores() {
   for (int h = 0; h < kHypotheses; ++h) scores_[h] = -sums[h];
 }
 
-void HasteDifferenceStar::updateScores(const WindowEvent& added, const WindowEvent& evicted) {
+void HasteDifferenceStar::updateScores(int /*index*/, const WindowEvent& added, const WindowEvent& evicted) {
   float* const diff = diff_.data();
   alignas(32) float xa[kPadded], ya[kPadded], xe[kPadded], ye[kPadded];
   patchCoordinates(added.x, added.y, xa, ya);
@@ -411,25 +412,28 @@ void HasteDifferenceStar::updateScores(const WindowEvent& added, const WindowEve
 
 // ---- HasteCorrelation* ---------------------------------------------------------------------------
 
-HasteCorrelationStar::HasteCorrelationStar(const HasteParams& params) : HasteTracker(params) {}
+HasteCorrelationStar::HasteCorrelationStar(const HasteParams& params)
+    : HasteTracker(params), samples_(static_cast<std::size_t>(kWindow) * kPadded) {}
 
 void HasteCorrelationStar::rebuildScores() {
   std::array<double, kHypotheses> sums{};
-  alignas(32) float v[kPadded];
   // The window's storage order does not matter for the sums (entries [0, count_) are the window).
   for (int i = 0; i < count_; ++i) {
     const WindowEvent& e = window_[static_cast<std::size_t>(i)];
+    float* v = &samples_[static_cast<std::size_t>(i) * kPadded];
     sampleHypotheses(normalized_, e.x, e.y, v);
     for (int h = 0; h < kHypotheses; ++h) sums[h] += v[h];
   }
   for (int h = 0; h < kHypotheses; ++h) scores_[h] = sums[h] * kInvWindow;
 }
 
-void HasteCorrelationStar::updateScores(const WindowEvent& added, const WindowEvent& evicted) {
-  alignas(32) float va[kPadded], ve[kPadded];
+void HasteCorrelationStar::updateScores(int index, const WindowEvent& added, const WindowEvent& /*evicted*/) {
+  // The evicted event's samples, stored when it entered the window (or at the last rebuild).
+  float* const stored = &samples_[static_cast<std::size_t>(index) * kPadded];
+  alignas(32) float va[kPadded];
   sampleHypotheses(normalized_, added.x, added.y, va);
-  sampleHypotheses(normalized_, evicted.x, evicted.y, ve);
-  for (int h = 0; h < kHypotheses; ++h) scores_[h] += (double(va[h]) - double(ve[h])) * kInvWindow;
+  for (int h = 0; h < kHypotheses; ++h) scores_[h] += (double(va[h]) - double(stored[h])) * kInvWindow;
+  std::copy(va, va + kPadded, stored);
 }
 
 std::unique_ptr<HasteTracker> makeHasteTracker(const HasteParams& params) {

@@ -176,8 +176,9 @@ class HasteTracker {
  protected:
   /// Recomputes every score from the current window and normalized template.
   virtual void rebuildScores() = 0;
-  /// Incremental score update: `added` entered the window and `evicted` left it.
-  virtual void updateScores(const WindowEvent& added, const WindowEvent& evicted) = 0;
+  /// Incremental score update: `added` entered the window at storage index `index` (window_[index]),
+  /// where `evicted` left it.
+  virtual void updateScores(int index, const WindowEvent& added, const WindowEvent& evicted) = 0;
 
   /// Patch coordinates of an image point under every hypothesis (structure-of-arrays, vectorizable).
   void patchCoordinates(float ex, float ey, float* xp, float* yp) const {
@@ -236,20 +237,26 @@ class HasteDifferenceStar final : public HasteTracker {
 
  protected:
   void rebuildScores() override;
-  void updateScores(const WindowEvent& added, const WindowEvent& evicted) override;
+  void updateScores(int index, const WindowEvent& added, const WindowEvent& evicted) override;
 
  private:
   std::vector<float> diff_;  ///< kPatchCells x kHypotheses, allocated once
 };
 
 /// HasteCorrelation*: mean bilinear sample of the frozen normalized template at the window events.
+/// The 11 samples of every window event are kept beside the window (same storage index): the template
+/// and the hypotheses are frozen between switches, and every switch resamples the whole window, so an
+/// evicted event's samples are the ones it added (not computed again).
 class HasteCorrelationStar final : public HasteTracker {
  public:
   explicit HasteCorrelationStar(const HasteParams& params);
 
  protected:
   void rebuildScores() override;
-  void updateScores(const WindowEvent& added, const WindowEvent& evicted) override;
+  void updateScores(int index, const WindowEvent& added, const WindowEvent& evicted) override;
+
+ private:
+  std::vector<float> samples_;  ///< kWindow x kPadded: samples of window_[i] at [i * kPadded], allocated once
 };
 
 /// Builds the tracker of a variant.
