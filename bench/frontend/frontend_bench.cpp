@@ -166,13 +166,15 @@ void frontendBench(benchmark::State& state, const std::string& tracker) {
       index == 7 ? simulatedDvxplorer().camera
                  : readEcdCalibration(std::string(ASYNEVO_SOURCE_DIR) + "/tests/data/ecd/shapes_rotation/calib.txt");
   const auto table = camera.undistortionTable<float>();
+  EventPacket packet;  // the stream as one packet, as the CLI feeds a reader's packets
+  packet.events = events;
   FrontendStats stats;
   for (auto _ : state) {
     state.PauseTiming();
     auto fe = std::make_unique<Frontend>(config, camera.width(), camera.height(), table);
     NullSink sink;
     state.ResumeTiming();
-    for (const Event& e : events) fe->process(e, sink);
+    fe->process(packet, sink);
     state.PauseTiming();
     stats = fe->stats();
     fe.reset();
