@@ -217,6 +217,7 @@ class Frontend {
     int reg_index = -1;  ///< registration-table index it occupies, or -1
     int cell = -1;       ///< dispatch-grid cell
     int next_in_cell = -1;
+    float x = 0.f, y = 0.f;  ///< its tracker's state().x, y (the dispatch's range test reads them here)
     uint32_t measurements = 0;
     int64_t next_drift_check_ns = 0;
     float roll_at_init = 0.f;  ///< common roll when its tracker initialized

@@ -87,6 +87,9 @@ class HasteTracker {
     if (!(dx * dx + dy * dy < float(kRadius * kRadius))) return TrackerResult::kOutOfRange;
     return pushInRange(t_ns, x, y);
   }
+  /// push() of an event the caller already found in range (inRange(), or the same test on a copy of
+  /// state().x, state().y).
+  TrackerResult pushInRange(int64_t t_ns, float x, float y);
   bool inRange(float x, float y) const {
     const float dx = x - state_.x, dy = y - state_.y;
     return dx * dx + dy * dy < float(kRadius * kRadius);
@@ -207,7 +210,6 @@ class HasteTracker {
   int count_ = 0;
 
  private:
-  TrackerResult pushInRange(int64_t t_ns, float x, float y);
   void generateHypotheses();
   void initializeTemplate();
   bool normalizeTemplate();
