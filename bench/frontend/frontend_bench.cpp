@@ -1,5 +1,6 @@
-// Per-event cost of each frontend stage and of the whole frontend, on the bundled ECD slices and on a
-// long synthetic stream (synthetic_stream.hpp). Figures are printed, never asserted.
+// Per-event cost of each frontend stage and of the whole frontend, on the bundled ECD slices, on a
+// long synthetic stream (synthetic_stream.hpp) and on simulated sequences (sim_sequence.hpp; one at
+// 640x480 with 120 features). Figures are printed, never asserted.
 //   bench_frontend [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
 
@@ -48,15 +49,22 @@ const std::vector<Event>& simulated(const std::string& scene) {
   return it->second;
 }
 
+// 0.5 s of boxes/6dof at a DVXplorer-like 640x480 sensor (~7.6 M events/s of event time), with its camera.
+const bench::SimSequence& simulatedDvxplorer() {
+  static const bench::SimSequence s = bench::simulateSequence("boxes", "6dof", 0.5, 1, "dvxplorer");
+  return s;
+}
+
 const std::vector<Event>& stream(int index) {
   static const char* names[] = {"shapes_rotation", "poster_rotation", "boxes_rotation", "dynamic_rotation"};
   if (index == 5) return simulated("shapes");
   if (index == 6) return simulated("boxes");
+  if (index == 7) return simulatedDvxplorer().events;
   return index < 4 ? slice(names[index]) : synthetic();
 }
 const char* streamName(int index) {
   static const char* names[] = {"shapes_rotation", "poster_rotation", "boxes_rotation", "dynamic_rotation",
-                                "synthetic",       "sim shapes/6dof", "sim boxes/6dof"};
+                                "synthetic",       "sim shapes/6dof", "sim boxes/6dof", "sim boxes/6dof 640x480"};
   return names[index];
 }
 
@@ -153,16 +161,20 @@ void frontendBench(benchmark::State& state, const std::string& tracker) {
   if (state.range(2) == 2) {  // the defaults without the neighbour-motion test (for its cost)
     config.max_neighbour_disagreement_px = 0;
   }
+  // Stream 7 is 640x480 with its own camera; the others are 240x180 (ECD calibration).
   const CameraModel camera =
-      readEcdCalibration(std::string(ASYNEVO_SOURCE_DIR) + "/tests/data/ecd/shapes_rotation/calib.txt");
+      index == 7 ? simulatedDvxplorer().camera
+                 : readEcdCalibration(std::string(ASYNEVO_SOURCE_DIR) + "/tests/data/ecd/shapes_rotation/calib.txt");
   const auto table = camera.undistortionTable<float>();
+  EventPacket packet;  // the stream as one packet, as the CLI feeds a reader's packets
+  packet.events = events;
   FrontendStats stats;
   for (auto _ : state) {
     state.PauseTiming();
-    auto fe = std::make_unique<Frontend>(config, 240, 180, table);
+    auto fe = std::make_unique<Frontend>(config, camera.width(), camera.height(), table);
     NullSink sink;
     state.ResumeTiming();
-    for (const Event& e : events) fe->process(e, sink);
+    fe->process(packet, sink);
     state.PauseTiming();
     stats = fe->stats();
     fe.reset();
@@ -202,6 +214,7 @@ BENCHMARK(BM_FrontendDifferenceStar)
 BENCHMARK(BM_FrontendCorrelationStar)
     ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6}, {0}, {1}})
     ->Args({4, 100, 1})
+    ->Args({7, 120, 1})
     ->Args({5, 0, 0})
     ->Args({6, 0, 0})
     ->Args({5, 0, 2})

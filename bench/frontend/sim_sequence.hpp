@@ -13,6 +13,7 @@
 #include "asynevo/sim/feature_ground_truth.hpp"
 #include "asynevo/sim/motion.hpp"
 #include "asynevo/sim/scene.hpp"
+#include "asynevo/sim/sensor.hpp"
 
 namespace asynevo::bench {
 
@@ -25,14 +26,22 @@ struct SimSequence {
 };
 
 /// Simulates `duration_s` of a built-in scene and motion preset with the default sensor settings
-/// (DAVIS240C with the ECD distortion, as 'asynevo simulate' does).
+/// (DAVIS240C with the ECD distortion, as 'asynevo simulate' does). With a `sensor` preset
+/// (sim::sensorPresetNames(), e.g. "dvxplorer") that camera is simulated instead, with the render-step
+/// bound 'asynevo simulate --sensor' uses.
 inline SimSequence simulateSequence(const std::string& scene, const std::string& motion, double duration_s,
-                                    uint64_t seed = 1) {
+                                    uint64_t seed = 1, const std::string& sensor = "") {
   SimSequence s;
   s.name = scene + "/" + motion;
+  sim::EventSimConfig config;
+  if (!sensor.empty()) {
+    s.camera = sim::sensorPresetCamera(sensor);
+    config.max_pixel_motion = sim::defaultMaxStepMotion(s.camera);
+    s.name += " " + sensor;
+  }
   s.motion = sim::makePresetMotion(motion, duration_s);
   sim::Scene world = sim::makeBuiltinScene(scene, *s.motion, s.camera, seed);
-  sim::EventSimulator simulator(s.camera, world, sim::EventSimConfig{}, seed);
+  sim::EventSimulator simulator(s.camera, world, config, seed);
   simulator.run(*s.motion, s.motion->beginNs(), s.motion->endNs(), [&](const std::vector<Event>& step) {
     s.events.insert(s.events.end(), step.begin(), step.end());
   });

@@ -329,12 +329,17 @@ void Frontend::process(const Event& raw, MeasurementSink& sink) {
   for (int gy = gy0; gy <= gy1; ++gy) {
     for (int gx = gx0; gx <= gx1; ++gx) {
       for (int s = cell_heads_[gy * grid_w_ + gx]; s >= 0; s = slots_[s].next_in_cell) {
-        const TrackerResult r = slots_[s].tracker->push(t, ex, ey);
-        if (r == TrackerResult::kOutOfRange) continue;
+        Slot& slot = slots_[s];
+        // HasteTracker::push's range test, on the slot's copy of the tracker position.
+        const float dx = ex - slot.x, dy = ey - slot.y;
+        if (!(dx * dx + dy * dy < float(HasteTracker::kRadius * HasteTracker::kRadius))) continue;
+        HasteTracker& tracker = *slot.tracker;
+        const TrackerResult r = tracker.pushInRange(t, ex, ey);
         used = true;
         ++stats_.tracker_updates;
-        if (r == TrackerResult::kStateChanged || !slots_[s].tracker->healthy())
-          changed_.emplace_back(s, slots_[s].id);
+        slot.x = tracker.state().x;
+        slot.y = tracker.state().y;
+        if (r == TrackerResult::kStateChanged || !tracker.healthy()) changed_.emplace_back(s, slot.id);
       }
     }
   }
@@ -471,6 +476,8 @@ void Frontend::trySeed(const Event& e) {
   s.history_size = 0;
   s.tracker->reset(e.t_ns, x, y);
   s.tracker->push(e.t_ns, x, y);  // the seed event is the first of its window
+  s.x = s.tracker->state().x;
+  s.y = s.tracker->state().y;
   s.reg_index = e.y * width_ + e.x;
   registration_[s.reg_index] = s.id;
   id_map_.insert(s.id, slot);

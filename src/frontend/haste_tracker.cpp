@@ -8,12 +8,58 @@
 #include <cmath>
 #include <limits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace asynevo::frontend {
 
 namespace {
 
 constexpr float kInvWindow = 1.0f / HasteTracker::kWindow;
 constexpr int kStencilOffset[4] = {0, 1, HasteTracker::kPatchSize, HasteTracker::kPatchSize + 1};
+
+/// The bilinear samples of `tmpl` for the 9 translation hypotheses (kOffsets order) of one stencil
+/// (cell x0, y0 of the identity, weights w0..w3), when every one lies inside the patch with room for a
+/// 4-wide row (1 <= x0 <= kPatchSize - 4, 1 <= y0 <= kPatchSize - 3); false otherwise (nothing written).
+/// Each value is w0 t00 + w1 t01 + w2 t10 + w3 t11 evaluated in that order, as sample() does: the three
+/// hypotheses of one row are lanes of one vector (no fused or reordered arithmetic), so the results
+/// are the same floats.
+inline bool interiorTranslationSamples(const float* tmpl, int x0, int y0, float w0, float w1, float w2, float w3,
+                                       float* out) {
+  constexpr int kP = HasteTracker::kPatchSize;
+  if (x0 < 1 || y0 < 1 || x0 > kP - 4 || y0 > kP - 3) return false;
+  // Rows yh = y0 - oy for oy = 1, 0, -1; lanes xh = x0 - ox for ox = 1, 0, -1 (and one unused lane).
+  alignas(16) float rows[3][4];
+  const float* base = tmpl + (y0 - 1) * kP + (x0 - 1);
+#if defined(__SSE2__)
+  const __m128 v0 = _mm_set1_ps(w0), v1 = _mm_set1_ps(w1), v2 = _mm_set1_ps(w2), v3 = _mm_set1_ps(w3);
+  for (int r = 0; r < 3; ++r) {
+    const float* t = base + r * kP;
+    const __m128 s = _mm_add_ps(
+        _mm_add_ps(_mm_add_ps(_mm_mul_ps(v0, _mm_loadu_ps(t)), _mm_mul_ps(v1, _mm_loadu_ps(t + 1))),
+                   _mm_mul_ps(v2, _mm_loadu_ps(t + kP))),
+        _mm_mul_ps(v3, _mm_loadu_ps(t + kP + 1)));
+    _mm_store_ps(rows[r], s);
+  }
+#else
+  for (int r = 0; r < 3; ++r) {
+    const float* t = base + r * kP;
+    for (int j = 0; j < 3; ++j) rows[r][j] = w0 * t[j] + w1 * t[j + 1] + w2 * t[j + kP] + w3 * t[j + kP + 1];
+  }
+#endif
+  // kOffsets: 0 (0,0), 1 (1,0), 2 (-1,0), 3 (0,1), 4 (0,-1), 5 (1,1), 6 (1,-1), 7 (-1,1), 8 (-1,-1).
+  out[0] = rows[1][1];
+  out[1] = rows[1][0];
+  out[2] = rows[1][2];
+  out[3] = rows[0][1];
+  out[4] = rows[2][1];
+  out[5] = rows[0][0];
+  out[6] = rows[2][0];
+  out[7] = rows[0][2];
+  out[8] = rows[2][2];
+  return true;
+}
 
 }  // namespace
 
@@ -65,15 +111,18 @@ void HasteTracker::sampleHypotheses(const Patch& tmpl, float ex, float ey, float
   y0 -= yp < float(y0) ? 1 : 0;
   const float fx = xp - float(x0), fy = yp - float(y0);
   const float w0 = (1.f - fx) * (1.f - fy), w1 = fx * (1.f - fy), w2 = (1.f - fx) * fy, w3 = fx * fy;
-  for (int h = 0; h < kTranslations; ++h) {
-    const int xh = x0 - kOffsets[h][0], yh = y0 - kOffsets[h][1];
-    // Same condition as stencil(): 0 <= xh + fx < kPatchSize - 1 with 0 <= fx < 1.
-    if (static_cast<unsigned>(xh) > unsigned(kPatchSize - 2) || static_cast<unsigned>(yh) > unsigned(kPatchSize - 2)) {
-      out[h] = 0.f;
-      continue;
+  if (!interiorTranslationSamples(tmpl.data(), x0, y0, w0, w1, w2, w3, out)) {
+    for (int h = 0; h < kTranslations; ++h) {
+      const int xh = x0 - kOffsets[h][0], yh = y0 - kOffsets[h][1];
+      // Same condition as stencil(): 0 <= xh + fx < kPatchSize - 1 with 0 <= fx < 1.
+      if (static_cast<unsigned>(xh) > unsigned(kPatchSize - 2) ||
+          static_cast<unsigned>(yh) > unsigned(kPatchSize - 2)) {
+        out[h] = 0.f;
+        continue;
+      }
+      const float* t = &tmpl[static_cast<std::size_t>(yh * kPatchSize + xh)];
+      out[h] = w0 * t[0] + w1 * t[1] + w2 * t[kPatchSize] + w3 * t[kPatchSize + 1];
     }
-    const float* t = &tmpl[static_cast<std::size_t>(yh * kPatchSize + xh)];
-    out[h] = w0 * t[0] + w1 * t[1] + w2 * t[kPatchSize] + w3 * t[kPatchSize + 1];
   }
   for (int h = kTranslations; h < kHypotheses; ++h) {
     float xh, yh;
@@ -168,6 +217,11 @@ void HasteTracker::matchScoresTranslated(const Patch& tmpl, float x, float y, in
       y0 -= yp < float(y0) ? 1 : 0;
       const float fx = xp - float(x0), fy = yp - float(y0);
       const float w0 = (1.f - fx) * (1.f - fy), w1 = fx * (1.f - fy), w2 = (1.f - fx) * fy, w3 = fx * fy;
+      float v[kTranslations];
+      if (interiorTranslationSamples(tmpl.data(), x0, y0, w0, w1, w2, w3, v)) {
+        for (int h = 0; h < kTranslations; ++h) sums[h] += v[h];
+        continue;
+      }
       for (int h = 0; h < kTranslations; ++h) {
         const int xh = x0 - kOffsets[h][0], yh = y0 - kOffsets[h][1];
         if (static_cast<unsigned>(xh) > unsigned(kPatchSize - 2) ||
@@ -288,12 +342,13 @@ TrackerResult HasteTracker::pushInRange(int64_t t_ns, float x, float y) {
   if (!healthy_) return TrackerResult::kRegular;
 
   // Slide the window: the oldest event leaves, the new one enters.
-  const WindowEvent evicted = window_[head_];
-  window_[head_] = e;
+  const int index = head_;
+  const WindowEvent evicted = window_[index];
+  window_[index] = e;
   head_ = head_ + 1 == kWindow ? 0 : head_ + 1;
   addMoments(e, 1.0);
   addMoments(evicted, -1.0);
-  updateScores(e, evicted);
+  updateScores(index, e, evicted);
 
   // Hysteresis decision (reference §6.4) with explicit guards against NaN and all-equal scores.
   const double null_score = scores_[0];
@@ -380,7 +435,7 @@ void HasteDifferenceStar::rebuildScores() {
   for (int h = 0; h < kHypotheses; ++h) scores_[h] = -sums[h];
 }
 
-void HasteDifferenceStar::updateScores(const WindowEvent& added, const WindowEvent& evicted) {
+void HasteDifferenceStar::updateScores(int /*index*/, const WindowEvent& added, const WindowEvent& evicted) {
   float* const diff = diff_.data();
   alignas(32) float xa[kPadded], ya[kPadded], xe[kPadded], ye[kPadded];
   patchCoordinates(added.x, added.y, xa, ya);
@@ -411,25 +466,28 @@ void HasteDifferenceStar::updateScores(const WindowEvent& added, const WindowEve
 
 // ---- HasteCorrelation* ---------------------------------------------------------------------------
 
-HasteCorrelationStar::HasteCorrelationStar(const HasteParams& params) : HasteTracker(params) {}
+HasteCorrelationStar::HasteCorrelationStar(const HasteParams& params)
+    : HasteTracker(params), samples_(static_cast<std::size_t>(kWindow) * kPadded) {}
 
 void HasteCorrelationStar::rebuildScores() {
   std::array<double, kHypotheses> sums{};
-  alignas(32) float v[kPadded];
   // The window's storage order does not matter for the sums (entries [0, count_) are the window).
   for (int i = 0; i < count_; ++i) {
     const WindowEvent& e = window_[static_cast<std::size_t>(i)];
+    float* v = &samples_[static_cast<std::size_t>(i) * kPadded];
     sampleHypotheses(normalized_, e.x, e.y, v);
     for (int h = 0; h < kHypotheses; ++h) sums[h] += v[h];
   }
   for (int h = 0; h < kHypotheses; ++h) scores_[h] = sums[h] * kInvWindow;
 }
 
-void HasteCorrelationStar::updateScores(const WindowEvent& added, const WindowEvent& evicted) {
-  alignas(32) float va[kPadded], ve[kPadded];
+void HasteCorrelationStar::updateScores(int index, const WindowEvent& added, const WindowEvent& /*evicted*/) {
+  // The evicted event's samples, stored when it entered the window (or at the last rebuild).
+  float* const stored = &samples_[static_cast<std::size_t>(index) * kPadded];
+  alignas(32) float va[kPadded];
   sampleHypotheses(normalized_, added.x, added.y, va);
-  sampleHypotheses(normalized_, evicted.x, evicted.y, ve);
-  for (int h = 0; h < kHypotheses; ++h) scores_[h] += (double(va[h]) - double(ve[h])) * kInvWindow;
+  for (int h = 0; h < kHypotheses; ++h) scores_[h] += (double(va[h]) - double(stored[h])) * kInvWindow;
+  std::copy(va, va + kPadded, stored);
 }
 
 std::unique_ptr<HasteTracker> makeHasteTracker(const HasteParams& params) {

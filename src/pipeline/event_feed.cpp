@@ -42,6 +42,9 @@ void EventFeed::push(const Event* events, std::size_t count) {
   if (finished_) throw Error("EventFeed: events pushed after finish()");
   for (std::size_t i = 0; i < count; ++i) {
     const Event& e = events[i];
+    // The frontend's per-pixel maps of an event a few places later start loading now.
+    if (i + frontend::Frontend::kPrefetchAhead < count)
+      frontend_->prefetch(events[i + frontend::Frontend::kPrefetchAhead]);
     if (events_ == 0) first_t_ns_ = e.t_ns;
     int64_t marker = 0;
     if (clock_.next(e.t_ns, marker)) {

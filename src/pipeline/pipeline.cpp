@@ -188,7 +188,12 @@ PipelineStats Pipeline::run(const std::function<void(const PipelineProgress&)>& 
     bool first = true;
     while (reader_.read(packet)) {
       ++stats.packets;
-      for (const Event& e : packet.events) {
+      const std::size_t count = packet.events.size();
+      for (std::size_t i = 0; i < count; ++i) {
+        const Event& e = packet.events[i];
+        // The frontend's per-pixel maps of an event a few places later start loading now.
+        if (i + frontend::Frontend::kPrefetchAhead < count)
+          frontend_.prefetch(packet.events[i + frontend::Frontend::kPrefetchAhead]);
         if (first) {
           stats.first_t_ns = e.t_ns;
           first = false;

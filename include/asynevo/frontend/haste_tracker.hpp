@@ -87,6 +87,9 @@ class HasteTracker {
     if (!(dx * dx + dy * dy < float(kRadius * kRadius))) return TrackerResult::kOutOfRange;
     return pushInRange(t_ns, x, y);
   }
+  /// push() of an event the caller already found in range (inRange(), or the same test on a copy of
+  /// state().x, state().y).
+  TrackerResult pushInRange(int64_t t_ns, float x, float y);
   bool inRange(float x, float y) const {
     const float dx = x - state_.x, dy = y - state_.y;
     return dx * dx + dy * dy < float(kRadius * kRadius);
@@ -176,8 +179,9 @@ class HasteTracker {
  protected:
   /// Recomputes every score from the current window and normalized template.
   virtual void rebuildScores() = 0;
-  /// Incremental score update: `added` entered the window and `evicted` left it.
-  virtual void updateScores(const WindowEvent& added, const WindowEvent& evicted) = 0;
+  /// Incremental score update: `added` entered the window at storage index `index` (window_[index]),
+  /// where `evicted` left it.
+  virtual void updateScores(int index, const WindowEvent& added, const WindowEvent& evicted) = 0;
 
   /// Patch coordinates of an image point under every hypothesis (structure-of-arrays, vectorizable).
   void patchCoordinates(float ex, float ey, float* xp, float* yp) const {
@@ -206,7 +210,6 @@ class HasteTracker {
   int count_ = 0;
 
  private:
-  TrackerResult pushInRange(int64_t t_ns, float x, float y);
   void generateHypotheses();
   void initializeTemplate();
   bool normalizeTemplate();
@@ -236,20 +239,26 @@ class HasteDifferenceStar final : public HasteTracker {
 
  protected:
   void rebuildScores() override;
-  void updateScores(const WindowEvent& added, const WindowEvent& evicted) override;
+  void updateScores(int index, const WindowEvent& added, const WindowEvent& evicted) override;
 
  private:
   std::vector<float> diff_;  ///< kPatchCells x kHypotheses, allocated once
 };
 
 /// HasteCorrelation*: mean bilinear sample of the frozen normalized template at the window events.
+/// The 11 samples of every window event are kept beside the window (same storage index): the template
+/// and the hypotheses are frozen between switches, and every switch resamples the whole window, so an
+/// evicted event's samples are the ones it added (not computed again).
 class HasteCorrelationStar final : public HasteTracker {
  public:
   explicit HasteCorrelationStar(const HasteParams& params);
 
  protected:
   void rebuildScores() override;
-  void updateScores(const WindowEvent& added, const WindowEvent& evicted) override;
+  void updateScores(int index, const WindowEvent& added, const WindowEvent& evicted) override;
+
+ private:
+  std::vector<float> samples_;  ///< kWindow x kPadded: samples of window_[i] at [i * kPadded], allocated once
 };
 
 /// Builds the tracker of a variant.

@@ -19,6 +19,17 @@
 
 namespace asynevo::frontend {
 
+/// Starts loading the cache line holding `address` (a hint; no effect on any value). On x86 the
+/// instruction is written out: GCC 12 at -O3 dropped __builtin_prefetch (and _mm_prefetch) of these
+/// map entries from the generated code.
+inline void prefetchLine(const void* address) {
+#if defined(__x86_64__) || defined(__i386__)
+  asm volatile("prefetcht0 %0" : : "m"(*static_cast<const char*>(address)));
+#else
+  __builtin_prefetch(address);
+#endif
+}
+
 /// "Never fired": far below any timestamp, and far enough above INT64_MIN that t - kNever and
 /// kNever + dt do not overflow for realistic times.
 constexpr int64_t kNever = std::numeric_limits<int64_t>::min() / 4;
@@ -38,6 +49,14 @@ class SurfaceOfActiveEvents {
     latest_p = e.t_ns;
     if (accept) sae_[p][i] = e.t_ns;
     return accept;
+  }
+
+  /// Hint: an event of polarity channel p at pixel index i is updated soon; starts loading the map
+  /// entries update() touches into the cache (the maps are larger than the caches and events arrive
+  /// at random pixels). No effect on any value.
+  void prefetch(std::size_t i, int p) const {
+    prefetchLine(&latest_[2 * i]);
+    prefetchLine(&sae_[p][i]);
   }
 
   int width() const { return width_; }
