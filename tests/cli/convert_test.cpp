@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -95,6 +96,47 @@ TEST(ConvertCommand, DsecHdf5ToAevtAndEcdTextKeepsEveryEvent) {
   const auto no_size = runAsynevo("info --dataset " + h5);
   EXPECT_NE(no_size.exit_code, 0);
   EXPECT_NE(no_size.output.find("DSEC-style HDF5 files store no sensor size"), std::string::npos) << no_size.output;
+}
+
+// The real sample recordings of ../shared/data/formats (several GPL, read from there, not copied; counts
+// from ../shared/data/SOURCES.md) -> aevt -> ECD text: the same events at every step, for every format
+// that has a sample (the "same events through every format").
+TEST(ConvertCommand, EveryRealSampleKeepsItsEventsThroughAevtAndEcdText) {
+  struct Sample {
+    const char* file;
+    std::size_t events;
+  };
+  const Sample samples[] = {
+      {"evt3/evt3_sample.raw", 219596},         {"evt2/evt2_sample.raw", 539481},
+      {"dat/sample_ncars.dat", 2009},           {"aedat4/sample.aedat4", 111954},
+      {"aedat4/sample_davis346_trimmed.aedat4", 6676}, {"rosbag/test_events_1.bag", 343474},
+  };
+  for (const Sample& sample : samples) {
+    SCOPED_TRACE(sample.file);
+    const std::string path = std::string(ASYNEVO_SHARED_DATA_DIR) + "/formats/" + sample.file;
+    if (!std::filesystem::exists(path)) {
+      GTEST_SKIP() << "sample recording " << path << " not found: the shared data folder (../shared/data beside "
+                   << "the repository) is missing; these GPL files are not copied into the repository";
+    }
+    TempDir dir;
+    const auto aevt = dir.file("events.aevt");
+    const auto text = dir.file("events.txt");
+    const auto to_aevt = runAsynevo("convert --dataset " + path + " --out " + aevt);
+    ASSERT_EQ(to_aevt.exit_code, 0) << to_aevt.output;
+    const std::vector<Event> original = readAllEvents(path);
+    ASSERT_EQ(original.size(), sample.events);
+    EXPECT_EQ(readAllEvents(aevt), original);
+    const auto to_text = runAsynevo("convert --dataset " + aevt + " --out " + text);
+    ASSERT_EQ(to_text.exit_code, 0) << to_text.output;
+    // ECD text stores no sensor size: the aevt header's is given back.
+    const auto size = runAsynevo("info --dataset " + aevt);
+    const auto at = size.output.find("sensor        ");
+    ASSERT_NE(at, std::string::npos) << size.output;
+    ReaderOptions options;
+    ASSERT_EQ(std::sscanf(size.output.c_str() + at, "sensor        %d x %d", &options.width, &options.height), 2)
+        << size.output;
+    EXPECT_EQ(readAllEvents(text, options), original);
+  }
 }
 
 }  // namespace
