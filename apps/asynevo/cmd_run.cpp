@@ -94,6 +94,10 @@ void addRunCommand(CLI::App& app) {
   addRectifyMapOption(cmd, run.rectify_map);
   addCameraInfoTopicOption(cmd, run.camera_info_topic);
   addGtTopicOption(cmd, run.gt_topic);
+  cmd->add_flag("--gt-camera-clock", run.gt_camera_clock,
+                "ROS bag of event_camera_msgs/EventPacket: shift the bag's poses (ROS time) onto the events' "
+                "camera clock by the first packet's header stamp minus its first event's time (good to the "
+                "driver's latency)");
   cmd->add_option("--backend", options.backend,
                   "estimator: window (AsynEVO), incremental (full-history smoother baseline) or "
                   "incremental-frozen (the same with old knots held constant)")

@@ -139,6 +139,33 @@ void runEvents(EventReader& reader, const CameraModel& camera, const Config& con
   summary.measurements_written = writer.measurementsWritten();
 }
 
+namespace {
+
+/// --gt-camera-clock (docs/reference/formats_rosbag.md#clocks): the bag's poses carry ROS time, its
+/// EventPacket events the camera's clock; the first packet's header stamp is taken as the ROS time of its
+/// first event, and the poses are shifted by the difference.
+void shiftToCameraClock(DatasetGroundTruth& gt, const std::string& bag, const EventReader& reader,
+                        RunSummary& summary) {
+  if (gt.source.rfind(bag + " (topic ", 0) != 0) {
+    throw InputError(gt.source, "--gt-camera-clock shifts a bag's pose topic; this ground truth is a file (its "
+                                "times are used as they are)");
+  }
+  std::optional<int64_t> stamp;
+  for (const ContainerStream& stream : reader.stats().streams)
+    if (stream.delivered && !stamp) stamp = rosbagFirstPacketStamp(bag, stream.name);
+  if (!stamp) {
+    summary.warnings.push_back("--gt-camera-clock: the events are no event_camera_msgs/EventPacket topic; their "
+                               "times are ROS time already, so the poses are not shifted");
+    return;
+  }
+  const int64_t shift = summary.pipeline.first_t_ns - *stamp;
+  for (StampedPose& p : gt.poses) p.t_ns += shift;
+  summary.groundtruth_shift_s = nsToSeconds(shift);
+  gt.source += fmt::format(", shifted by {:.9f} s onto the events' camera clock", nsToSeconds(shift));
+}
+
+}  // namespace
+
 RunSummary runDataset(const RunOptions& options, const std::function<void(const PipelineProgress&)>& progress,
                       PipelineOutput* observer) {
   RunSummary summary;
@@ -161,6 +188,10 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
                      std::string("no camera calibration: the dataset folder has no calib.txt or Kalibr camchain .yaml") +
                          (bag ? " and the bag no sensor_msgs/CameraInfo topic" : "") + "; pass --calib FILE");
   checkGroundTruthChoice(files, options.gt_topic);
+  if (options.gt_camera_clock && !bag)
+    throw ConfigError(fmt::format("--gt-camera-clock applies to ROS bags of event_camera_msgs/EventPacket events; {} "
+                                  "is not a ROS bag",
+                                  files.events));
 
   // The sensor size by precedence: --sensor, the configuration's sensor block, sensor.yaml, a camchain's
   // resolution, the format (io/sensor_size.hpp).
@@ -223,7 +254,8 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
   // The ground truth: --gt-topic, else a file beside the events, else a bag's only pose topic
   // (loadDatasetGroundTruth). Problems are warnings: the estimate is written either way.
   try {
-    const std::optional<DatasetGroundTruth> gt = loadDatasetGroundTruth(files, options.gt_topic);
+    std::optional<DatasetGroundTruth> gt = loadDatasetGroundTruth(files, options.gt_topic);
+    if (gt && options.gt_camera_clock) shiftToCameraClock(*gt, files.events, *reader, summary);
     if (gt) {
       summary.groundtruth = gt->source;
       if (!gt->note.empty()) summary.warnings.push_back("ground truth from " + gt->source + "; " + gt->note);
@@ -241,8 +273,9 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
             "stamped_groundtruth.txt not written",
             gt->source, nsToSeconds(summary.pipeline.first_t_ns), nsToSeconds(summary.pipeline.last_t_ns),
             nsToSeconds(gt->poses.front().t_ns), nsToSeconds(gt->poses.back().t_ns),
-            bag ? " (a bag's EventPacket events carry the camera's clock, its poses ROS time: "
-                  "docs/reference/formats_rosbag.md#clocks)"
+            bag && !options.gt_camera_clock
+                ? " (a bag's EventPacket events carry the camera's clock, its poses ROS time: --gt-camera-clock "
+                  "shifts the poses, docs/reference/formats_rosbag.md#clocks)"
                 : ""));
       } else {
         writer.writeGroundTruth(span);
@@ -335,6 +368,7 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("rectified_outside", s.rectified_outside)
       .add("calibration", s.calibration)
       .add("groundtruth", s.groundtruth)
+      .add("groundtruth_shift_s", s.groundtruth_shift_s)
       .add("first_event_s", nsToSeconds(p.first_t_ns))
       .add("last_event_s", nsToSeconds(p.last_t_ns))
       .add("groundtruth_poses", static_cast<uint64_t>(s.groundtruth_poses.value_or(0)))

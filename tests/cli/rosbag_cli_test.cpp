@@ -2,7 +2,9 @@
 // 'asynevo info', 'run' and 'eval' as a user runs them (docs/reference/formats_rosbag.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -202,6 +204,72 @@ TEST(RosbagCli, InfoShowsBothClocksOfAnEventPacketBag) {
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("clocks        events in the camera's clock (first event "), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("the first packet's header stamp (ROS time) is "), std::string::npos) << result.output;
+}
+
+// An EventPacket bag: events on the camera's clock (from 1 s), poses on ROS time (from kT0), the first
+// packet stamped kT0 + 2 ms (the driver's latency). --gt-camera-clock shifts the poses by the first
+// packet's stamp minus its first event's time.
+TEST(RosbagCli, GtCameraClockShiftsAnEventPacketBagsPosesOntoItsEvents) {
+  const bag::Connection packets{0, "/event_camera/events", bag::kEventPacketType, bag::kEventPacketMd5, "(definition)"};
+  std::vector<bag::Message> messages{
+      {2, kT0, bag::cameraInfo(240, 180, "plumb_bob", {0.0, 0.0, 0.0, 0.0, 0.0}, 200.0, 200.0, 120.0, 90.0)}};
+  // EVT 3.0 (docs/reference/formats_prophesee.md): time high (bits 23..12 of the µs time), time low, y,
+  // then x with its polarity. 300 packets of 1 ms, 20 events each, camera time 1.000 s .. 1.299 s.
+  auto word = [](uint32_t w) { return bag::u16(w); };
+  uint32_t state = 7;
+  for (int k = 0; k < 300; ++k) {
+    const uint32_t t_us = 1'000'000 + uint32_t(k) * 1000;
+    std::string payload = word(0x8000 | ((t_us >> 12) & 0xFFF)) + word(0x6000 | (t_us & 0xFFF));
+    for (int i = 0; i < 20; ++i) {
+      state = state * 1664525u + 1013904223u;
+      payload += word(0x0000 | ((state >> 8) % 180)) + word(0x2000 | (((state >> 20) & 1) << 11) | ((state >> 12) % 240));
+    }
+    const uint64_t stamp = kT0 + 2'000'000 + uint64_t(k) * 1'000'000;
+    messages.push_back({0, stamp, bag::eventPacket(240, 180, "evt3", payload, uint32_t(k), false, stamp)});
+  }
+  for (int i = 0; i < kPoses; ++i) {
+    bag::Pose p;
+    p.py = 0.02 * i;
+    const uint64_t t = kT0 + uint64_t(i) * 10'000'000;
+    messages.push_back({1, t, bag::poseStamped(t, p)});
+  }
+  std::stable_sort(messages.begin(), messages.end(), [](const auto& a, const auto& b) { return a.time_ns < b.time_ns; });
+  TempDir dir;
+  const std::string path =
+      dir.write("packets.bag", bag::buildBag({packets, kPose, kInfo}, {bag::Chunk(std::move(messages))}));
+
+  const auto plain = runAsynevo("run --dataset " + path + " --out " + dir.file("plain"));
+  EXPECT_NE(plain.output.find("no ground-truth pose within the event time span"), std::string::npos) << plain.output;
+  EXPECT_NE(plain.output.find("--gt-camera-clock shifts the poses"), std::string::npos) << plain.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("plain") + "/stamped_groundtruth.txt"));
+
+  const std::string out = dir.file("shifted");
+  const auto shifted = runAsynevo("run --dataset " + path + " --gt-camera-clock --out " + out);
+  // ROS time of the first event kT0 + 2 ms, its camera time 1 s: the pose at kT0 lands at 0.998 s.
+  EXPECT_NE(shifted.output.find("ground truth    " + path + " (topic /optitrack/davis), shifted by "),
+            std::string::npos)
+      << shifted.output;
+  std::ifstream gt(out + "/stamped_groundtruth.txt");
+  std::string line;
+  while (std::getline(gt, line) && (line.empty() || line[0] == '#')) {
+  }
+  EXPECT_EQ(line.substr(0, 12), "1.008000000 ") << line;  // the first pose inside the events' span
+  EXPECT_EQ(lineCount(out + "/stamped_groundtruth.txt"), 30u);  // 1.008 .. 1.298 s
+  std::ifstream json(out + "/stats.json");
+  std::stringstream text;
+  text << json.rdbuf();
+  const std::string key = "\"groundtruth_shift_s\": ";
+  const std::size_t at = text.str().find(key);
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_NEAR(std::strtod(text.str().c_str() + at + key.size(), nullptr), 1.0 - (kT0 * 1e-9 + 0.002), 1e-6);
+
+  // Not a bag: a usage error before anything is read.
+  const auto aevt = dir.file("events.aevt");
+  ASSERT_EQ(runAsynevo("convert --dataset " + path + " --out " + aevt).exit_code, 0);
+  const auto wrong = runAsynevo("run --dataset " + aevt + " --calib " + dir.write("calib.txt", "200 200 120 90 0 0 0 0 0\n") +
+                                " --gt-camera-clock --out " + dir.file("wrong"));
+  EXPECT_NE(wrong.exit_code, 0);
+  EXPECT_NE(wrong.output.find("--gt-camera-clock applies to ROS bags"), std::string::npos) << wrong.output;
 }
 
 }  // namespace

@@ -76,8 +76,8 @@ inline std::string eventArray2014(const std::vector<DvsEvent>& events) {
 /// event_camera_msgs/EventPacket: header, u32 height, u32 width, u64 seq, u64 time_base, string encoding,
 /// bool is_bigendian, uint8[] events.
 inline std::string eventPacket(uint32_t width, uint32_t height, const std::string& encoding, const std::string& payload,
-                               uint64_t seq = 0, bool big_endian = false) {
-  return rosHeader(static_cast<uint32_t>(seq), 0) + u32(height) + u32(width) + u64(seq) + u64(0) +
+                               uint64_t seq = 0, bool big_endian = false, uint64_t stamp_ns = 0) {
+  return rosHeader(static_cast<uint32_t>(seq), stamp_ns) + u32(height) + u32(width) + u64(seq) + u64(0) +
          rosString(encoding) + u8(big_endian ? 1 : 0) + rosString(payload);
 }
 

@@ -45,6 +45,10 @@ struct RunOptions {
                                   ///< ("" = the rule of io/dataset.hpp chooseDatasetCalibration)
   std::string gt_topic;          ///< --gt-topic: a ROS bag's pose topic for the ground truth ("" = the rule of
                                  ///< io/dataset.hpp loadDatasetGroundTruth)
+  /// --gt-camera-clock: an event_camera_msgs/EventPacket bag's poses (ROS time) are shifted onto its events'
+  /// camera clock by the first packet's header stamp minus its first event's time
+  /// (docs/reference/formats_rosbag.md#clocks)
+  bool gt_camera_clock = false;
   std::string config_path;       ///< "" = defaults (or `config` below)
   std::optional<Config> config;  ///< used instead of config_path when set (the demo)
   BackendKind backend = BackendKind::kWindow;
@@ -62,6 +66,7 @@ struct RunSummary {
   std::string dataset_events;  ///< the event file read
   std::string calibration;     ///< the calibration file used, or "BAG (topic NAME)" for a CameraInfo topic
   std::string groundtruth;     ///< where the ground truth came from ("" = none)
+  double groundtruth_shift_s = 0;  ///< added to the ground truth's times (--gt-camera-clock)
   std::string format;
   int width = 0, height = 0;
   std::string size_origin;  ///< where width and height came from
