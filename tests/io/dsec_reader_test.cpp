@@ -31,15 +31,6 @@ ReaderOptions vga(int packet_size = 65536) {
   return options;
 }
 
-std::string messageOf(const std::string& path, const ReaderOptions& options) {
-  try {
-    readAllEvents(path, options);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 void expectAsWritten(const std::vector<Event>& all, const DsecEvents& written, int64_t t_offset_us) {
   ASSERT_EQ(all.size(), written.t.size());
   for (std::size_t i = 0; i < all.size(); ++i) {
@@ -101,7 +92,7 @@ TEST(DsecReader, DatasetFolderFindsEventsH5AndFormatFilters) {
 TEST(DsecReader, WithoutASensorSizeAsksForOne) {
   TempDir dir;
   writeDsecEvents(dir.file("events.h5"), syntheticDsecEvents(10));
-  const std::string message = messageOf(dir.file("events.h5"), ReaderOptions{});
+  const std::string message = testing::errorOf(dir.file("events.h5"), ReaderOptions{});
   EXPECT_NE(message.find("DSEC-style HDF5 files store no sensor size"), std::string::npos) << message;
   EXPECT_NE(message.find("--sensor WxH"), std::string::npos) << message;
 }
@@ -112,7 +103,7 @@ TEST(DsecReader, MvsecFilesAreStillDetectedAsMvsec) {
   DsecLayout other;
   other.group = "something/else";
   writeDsecEvents(dir.file("x.h5"), syntheticDsecEvents(5), other);
-  EXPECT_NE(messageOf(dir.file("x.h5"), vga()).find("no dataset 'davis/left/events'"), std::string::npos);
+  EXPECT_NE(testing::errorOf(dir.file("x.h5"), vga()).find("no dataset 'davis/left/events'"), std::string::npos);
 }
 
 TEST(DsecReader, MissingDatasetsAndMismatchedLengths) {
@@ -120,11 +111,11 @@ TEST(DsecReader, MissingDatasetsAndMismatchedLengths) {
   DsecLayout no_p;
   no_p.skip = {"p"};
   writeDsecEvents(dir.file("a.h5"), syntheticDsecEvents(10), no_p);
-  EXPECT_EQ(messageOf(dir.file("a.h5"), vga()), dir.file("a.h5") + ": missing dataset 'events/p'");
+  EXPECT_EQ(testing::errorOf(dir.file("a.h5"), vga()), dir.file("a.h5") + ": missing dataset 'events/p'");
   DsecEvents short_y = syntheticDsecEvents(10);
   short_y.y.resize(9);
   writeDsecEvents(dir.file("b.h5"), short_y);
-  EXPECT_EQ(messageOf(dir.file("b.h5"), vga()),
+  EXPECT_EQ(testing::errorOf(dir.file("b.h5"), vga()),
             dir.file("b.h5") + ": datasets 'events/x' (10 values) and 'events/y' (9 values) differ in length: every "
                                "event needs all four fields (truncated or corrupt file?)");
 }
@@ -135,7 +126,7 @@ TEST(DsecReader, WrongDtypeIsNamed) {
   float_t.t_type = H5T_IEEE_F64LE;
   float_t.write_ms_to_idx = false;
   writeDsecEvents(dir.file("f.h5"), syntheticDsecEvents(10), float_t);
-  EXPECT_EQ(messageOf(dir.file("f.h5"), vga()),
+  EXPECT_EQ(testing::errorOf(dir.file("f.h5"), vga()),
             dir.file("f.h5") + ": dataset 'events/t' does not hold integers of 1, 2, 4 or 8 bytes (DSEC: x, y "
                                "uint16, p uint8, t uint32 microseconds)");
 }
@@ -147,13 +138,13 @@ TEST(DsecReader, BadEventsNameTheRecord) {
   DsecLayout no_index;
   no_index.write_ms_to_idx = false;
   writeDsecEvents(dir.file("u.h5"), unsorted, no_index);
-  const std::string u = messageOf(dir.file("u.h5"), vga(16));
+  const std::string u = testing::errorOf(dir.file("u.h5"), vga(16));
   EXPECT_EQ(u.rfind(dir.file("u.h5") + ": record 20: time goes backwards by", 0), 0u) << u;
 
   DsecEvents outside = syntheticDsecEvents(50);
   outside.x[33] = 640;
   writeDsecEvents(dir.file("o.h5"), outside);
-  const std::string o = messageOf(dir.file("o.h5"), vga(16));
+  const std::string o = testing::errorOf(dir.file("o.h5"), vga(16));
   EXPECT_EQ(o.rfind(dir.file("o.h5") + ": record 33: pixel (640, 231) is outside the 640x480 sensor (size from --sensor)",
                     0),
             0u)
@@ -162,7 +153,7 @@ TEST(DsecReader, BadEventsNameTheRecord) {
   DsecEvents polarity = syntheticDsecEvents(50);
   polarity.p[7] = 2;
   writeDsecEvents(dir.file("p.h5"), polarity);
-  EXPECT_EQ(messageOf(dir.file("p.h5"), vga()), dir.file("p.h5") + ": record 7: polarity 2 is not one of 0, 1, -1");
+  EXPECT_EQ(testing::errorOf(dir.file("p.h5"), vga()), dir.file("p.h5") + ": record 7: polarity 2 is not one of 0, 1, -1");
 }
 
 TEST(DsecReader, TimeOutOfRangeWithTOffset) {
@@ -174,7 +165,7 @@ TEST(DsecReader, TimeOutOfRangeWithTOffset) {
   DsecEvents events = syntheticDsecEvents(5);
   events.t[3] = 1'000'000'000'000'000;
   writeDsecEvents(dir.file("r.h5"), events, layout);
-  EXPECT_EQ(messageOf(dir.file("r.h5"), vga()),
+  EXPECT_EQ(testing::errorOf(dir.file("r.h5"), vga()),
             dir.file("r.h5") + ": record 3: time 1000000000000000 µs (+ t_offset 9000000000000000 µs) is out of range");
 }
 
@@ -186,7 +177,7 @@ TEST(DsecReader, MsToIdxIsCheckedAgainstTheEvents) {
   ASSERT_EQ(wrong.ms_to_idx.size(), 7u);
   wrong.ms_to_idx[4] += 1;
   writeDsecEvents(dir.file("w.h5"), events, wrong);
-  const std::string w = messageOf(dir.file("w.h5"), vga(100));
+  const std::string w = testing::errorOf(dir.file("w.h5"), vga(100));
   const uint64_t first_at_4ms = testing::dsecMsToIdx(events.t)[4];
   EXPECT_EQ(w, fmt::format("{}: record {}: ms_to_idx[4] is {}, but the first event at or after 4 ms (t before "
                            "t_offset) is this one: the index does not match the events (corrupt file?)",
@@ -196,7 +187,7 @@ TEST(DsecReader, MsToIdxIsCheckedAgainstTheEvents) {
   longer.ms_to_idx.push_back(1000);
   longer.ms_to_idx.push_back(999);
   writeDsecEvents(dir.file("l.h5"), events, longer);
-  EXPECT_EQ(messageOf(dir.file("l.h5"), vga()),
+  EXPECT_EQ(testing::errorOf(dir.file("l.h5"), vga()),
             dir.file("l.h5") + ": ms_to_idx[8] is 999, but no event is at or after 8 ms: it must be the event "
                                "count 1000 (corrupt file?)");
 }
@@ -213,7 +204,7 @@ TEST(DsecReader, TruncatedAndCorruptFilesAreErrorsNotCrashes) {
     const std::string cut = dir.write("cut.h5", bytes.substr(0, keep));
     ReaderOptions options = vga();
     options.format = "dsec";
-    errors += messageOf(cut, options).empty() ? 0 : 1;
+    errors += testing::errorOf(cut, options).empty() ? 0 : 1;
   }
   EXPECT_EQ(errors, 5);
   // Flipped bytes in the data area: an error or (if only values changed and stayed valid) events, never a crash.
@@ -257,7 +248,7 @@ TEST(DsecReader, CompressedDatasetWithUnstoredChunksIsRejected) {
   H5Sclose(space);
   H5Pclose(lcpl);
   H5Fclose(file);
-  EXPECT_EQ(messageOf(path, vga()), path + ": dataset 'events/x' declares 3000 values in 3 chunks of 1000 but stores 1 "
+  EXPECT_EQ(testing::errorOf(path, vga()), path + ": dataset 'events/x' declares 3000 values in 3 chunks of 1000 but stores 1 "
                                            "chunks (truncated or corrupt file?)");
 }
 
@@ -280,7 +271,7 @@ TEST(DsecReader, UnavailableFilterNamesThePackageOrPluginPath) {
   unsigned state = 0;
   H5PLget_loading_state(&state);
   H5PLset_loading_state(0);
-  const std::string message = messageOf(dir.file("z.h5"), vga());
+  const std::string message = testing::errorOf(dir.file("z.h5"), vga());
   H5PLset_loading_state(state);
   EXPECT_EQ(message, dir.file("z.h5") + ": dataset 'events/x' is compressed with HDF5 filter 32999 ('test filter'), "
                                         "which this HDF5 library cannot load: install an HDF5 filter plugin for it "
@@ -323,7 +314,7 @@ TEST(DsecReader, ReadsBloscZstdCompressedFiles) {
   unsigned state = 0;
   H5PLget_loading_state(&state);
   H5PLset_loading_state(0);
-  const std::string message = messageOf(dir.file("events.h5"), vga());
+  const std::string message = testing::errorOf(dir.file("events.h5"), vga());
   H5PLset_loading_state(state);
   EXPECT_EQ(message, dir.file("events.h5") + ": dataset 'events/x' is compressed with HDF5 filter 32001 ('blosc'), "
                                              "which this HDF5 library cannot load: install the Debian package "

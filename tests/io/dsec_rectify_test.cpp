@@ -35,15 +35,6 @@ ReaderOptions small(int packet_size = 65536, const std::string& map = "") {
   return options;
 }
 
-std::string messageOf(const std::string& path, const ReaderOptions& options) {
-  try {
-    readAllEvents(path, options);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 // Raw (x, y) -> (x + 0.4, y - 0.6), which rounds to (x, y - 1) (row 0 leaves the sensor), except for pixels
 // that test the rounding and the borders.
 std::pair<float, float> shiftUp(int x, int y) {
@@ -123,22 +114,22 @@ TEST(DsecRectify, BadMapsAreErrorsNamingTheFileAndDataset) {
   // Transposed (width, height, 2), and a map of another sensor.
   writeRectifyMap(map, good, {kWidth, kHeight, 2});
   EXPECT_EQ(
-      messageOf(dir.file("events.h5"), small(65536, map)),
+      testing::errorOf(dir.file("events.h5"), small(65536, map)),
       map +
           ": dataset 'rectify_map' has shape (8, 6, 2); the rectification map of the 8x6 sensor (size from "
           "--sensor) has shape (6, 8, 2): one (x, y) per raw pixel, indexed [y, x]");
   writeRectifyMap(map, std::vector<float>(4 * 3 * 2, 0.0f), {4, 3, 2});
   EXPECT_EQ(
-      messageOf(dir.file("events.h5"), small(65536, map)),
+      testing::errorOf(dir.file("events.h5"), small(65536, map)),
       map +
           ": dataset 'rectify_map' has shape (4, 3, 2); the rectification map of the 8x6 sensor (size from "
           "--sensor) has shape (6, 8, 2): one (x, y) per raw pixel, indexed [y, x]");
   writeRectifyMap(map, good, {kHeight * kWidth * 2});
-  EXPECT_NE(messageOf(dir.file("events.h5"), small(65536, map)).find("dataset 'rectify_map' has shape (96);"),
+  EXPECT_NE(testing::errorOf(dir.file("events.h5"), small(65536, map)).find("dataset 'rectify_map' has shape (96);"),
             std::string::npos);
   // Another dataset name.
   writeRectifyMap(map, good, {kHeight, kWidth, 2}, "map");
-  EXPECT_EQ(messageOf(dir.file("events.h5"), small(65536, map)),
+  EXPECT_EQ(testing::errorOf(dir.file("events.h5"), small(65536, map)),
             map +
                 ": missing dataset 'rectify_map': a DSEC rectification map holds one dataset 'rectify_map' "
                 "of shape "
@@ -147,28 +138,28 @@ TEST(DsecRectify, BadMapsAreErrorsNamingTheFileAndDataset) {
   std::vector<float> nan = good;
   nan[2 * (2 * kWidth + 5)] = std::numeric_limits<float>::quiet_NaN();
   writeRectifyMap(map, nan, {kHeight, kWidth, 2});
-  EXPECT_EQ(messageOf(dir.file("events.h5"), small(65536, map)),
+  EXPECT_EQ(testing::errorOf(dir.file("events.h5"), small(65536, map)),
             map + ": dataset 'rectify_map' entry [2, 5] (y, x) is (nan, 2): not a finite pixel position");
   std::vector<float> inf = good;
   inf[2 * (kWidth + 1) + 1] = -std::numeric_limits<float>::infinity();
   writeRectifyMap(map, inf, {kHeight, kWidth, 2});
-  EXPECT_NE(messageOf(dir.file("events.h5"), small(65536, map))
+  EXPECT_NE(testing::errorOf(dir.file("events.h5"), small(65536, map))
                 .find("entry [1, 1] (y, x) is (1.4, -inf): not a finite pixel position"),
             std::string::npos);
   // Integers instead of floats.
   writeRectifyMap(map, good, {kHeight, kWidth, 2}, "rectify_map", H5T_STD_I32LE);
-  EXPECT_EQ(messageOf(dir.file("events.h5"), small(65536, map)),
+  EXPECT_EQ(testing::errorOf(dir.file("events.h5"), small(65536, map)),
             map +
                 ": dataset 'rectify_map' does not hold 32- or 64-bit floating-point numbers (its values are "
                 "4 bytes "
                 "each; corrupt file?)");
   // A missing file, a file that is not HDF5.
-  EXPECT_EQ(messageOf(dir.file("events.h5"), small(65536, dir.file("nope.h5"))),
+  EXPECT_EQ(testing::errorOf(dir.file("events.h5"), small(65536, dir.file("nope.h5"))),
             dir.file("nope.h5") +
                 ": cannot open the rectification map as HDF5 (missing, unreadable or truncated file)");
   // A broken map beside the events is an error too (not skipped): it was meant to be used.
   writeRectifyMap(dir.file("rectify_map.h5"), good, {kWidth, kHeight, 2});
-  EXPECT_NE(messageOf(dir.file("events.h5"), small())
+  EXPECT_NE(testing::errorOf(dir.file("events.h5"), small())
                 .find(dir.file("rectify_map.h5") + ": dataset 'rectify_map' has "
                                                    "shape (8, 6, 2)"),
             std::string::npos);
@@ -178,7 +169,7 @@ TEST(DsecRectify, OtherFormatsRejectANamedMap) {
   TempDir dir;
   const std::string events = dir.write("events.txt", "0.1 1 1 1\n");
   writeRectifyMap(dir.file("map.h5"), rectifyMapValues(kWidth, kHeight, shiftUp), {kHeight, kWidth, 2});
-  EXPECT_EQ(messageOf(events, small(65536, dir.file("map.h5"))),
+  EXPECT_EQ(testing::errorOf(events, small(65536, dir.file("map.h5"))),
             events + ": a rectification map (" + dir.file("map.h5") +
                 ") applies to DSEC-style HDF5 events only, and this file is of format ecd");
   EXPECT_EQ(readAllEvents(events, small(65536, "none")).size(), 1u);
