@@ -1,5 +1,5 @@
 // Writes the MVSEC-layout HDF5 seeds of fuzz/corpus/mvsec_events and fuzz/corpus/mvsec_groundtruth, and the
-// DSEC-style seeds of fuzz/corpus/dsec_events, with the test suite's fixture writers
+// DSEC-style seeds of fuzz/corpus/dsec_events and the rectification maps of fuzz/corpus/dsec_rectify_map, with the test suite's fixture writers
 // (tests/io/mvsec_fixture.hpp, tests/io/dsec_fixture.hpp). Not part of the build; run once (the Blosc seed
 // needs hdf5-filter-plugin-blosc-serial):
 //   g++ -std=c++17 -I tests fuzz/make_hdf5_seeds.cpp $(pkg-config --cflags --libs hdf5-serial) -o /tmp/seeds
@@ -55,5 +55,12 @@ int main(int argc, char** argv) {
     blosc.filter_values = {0, 0, 0, 0, 5, 2, 5};  // level 5, bit shuffle, Zstd
     t::writeDsecEvents(dir + "/dsec_events/seed_blosc_zstd_2000_events.h5", t::syntheticDsecEvents(2000), blosc);
   }
+  // Rectification maps of the harness's 8x6 sensor: a shift by half a pixel (some pixels leave the
+  // sensor), and one of the wrong shape.
+  const std::vector<float> shift = t::rectifyMapValues(8, 6, [](int x, int y) {
+    return std::pair<float, float>(float(x) + 0.5f, float(y) - 0.4f);
+  });
+  t::writeRectifyMap(dir + "/dsec_rectify_map/seed_8x6_shift.h5", shift, {6, 8, 2});
+  t::writeRectifyMap(dir + "/dsec_rectify_map/seed_wrong_shape.h5", shift, {8, 6, 2});
   return 0;
 }
