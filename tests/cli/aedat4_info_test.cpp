@@ -17,7 +17,7 @@ using testing::TempDir;
 namespace fx = testing::aedat4;
 
 TEST(InfoCommand, DescribesAnAedat4RecordingAndItsStreams) {
-  const std::string path = std::string(ASYNEVO_SHARED_DATA_DIR) + "/formats/aedat4/sample.aedat4";
+  const std::string path = testing::sharedFormatSample("aedat4/sample.aedat4");
   if (!std::filesystem::exists(path)) {
     GTEST_SKIP() << "sample recording " << path << " not found: the shared data folder (../shared/data beside the "
                  << "repository) is missing; this GPL file is not copied into the repository";

@@ -16,6 +16,14 @@ struct CommandResult {
   std::string output;  ///< stdout and stderr, interleaved
 };
 
+/// A real sample recording of ../shared/data/formats (RELATIVE: e.g. "evt3/evt3_sample.raw"); several are
+/// GPL-licensed, so they are read from there and not copied into the repository (../shared/data/SOURCES.md).
+#ifdef ASYNEVO_SHARED_DATA_DIR  // defined for test_cli (tests/cli/CMakeLists.txt)
+inline std::string sharedFormatSample(const std::string& relative) {
+  return std::string(ASYNEVO_SHARED_DATA_DIR) + "/formats/" + relative;
+}
+#endif
+
 /// Runs `asynevo <arguments>`, in `working_dir` when given (else the test's working directory).
 inline CommandResult runAsynevo(const std::string& arguments, const std::string& working_dir = "") {
   const std::string cd = working_dir.empty() ? "" : "cd '" + working_dir + "' && ";

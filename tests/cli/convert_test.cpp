@@ -1,6 +1,5 @@
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -113,7 +112,7 @@ TEST(ConvertCommand, EveryRealSampleKeepsItsEventsThroughAevtAndEcdText) {
   };
   for (const Sample& sample : samples) {
     SCOPED_TRACE(sample.file);
-    const std::string path = std::string(ASYNEVO_SHARED_DATA_DIR) + "/formats/" + sample.file;
+    const std::string path = testing::sharedFormatSample(sample.file);
     if (!std::filesystem::exists(path)) {
       GTEST_SKIP() << "sample recording " << path << " not found: the shared data folder (../shared/data beside "
                    << "the repository) is missing; these GPL files are not copied into the repository";
@@ -129,12 +128,10 @@ TEST(ConvertCommand, EveryRealSampleKeepsItsEventsThroughAevtAndEcdText) {
     const auto to_text = runAsynevo("convert --dataset " + aevt + " --out " + text);
     ASSERT_EQ(to_text.exit_code, 0) << to_text.output;
     // ECD text stores no sensor size: the aevt header's is given back.
-    const auto size = runAsynevo("info --dataset " + aevt);
-    const auto at = size.output.find("sensor        ");
-    ASSERT_NE(at, std::string::npos) << size.output;
+    const StreamInfo size = openEventReader(aevt)->info();
     ReaderOptions options;
-    ASSERT_EQ(std::sscanf(size.output.c_str() + at, "sensor        %d x %d", &options.width, &options.height), 2)
-        << size.output;
+    options.width = size.width;
+    options.height = size.height;
     EXPECT_EQ(readAllEvents(text, options), original);
   }
 }

@@ -15,8 +15,6 @@ namespace {
 using testing::runAsynevo;
 using testing::TempDir;
 
-std::string sample(const std::string& relative) { return std::string(ASYNEVO_SHARED_DATA_DIR) + "/formats/" + relative; }
-
 TEST(InfoCommand, DescribesPropheseeRecordings) {
   struct Expected {
     const char* file;
@@ -34,7 +32,7 @@ TEST(InfoCommand, DescribesPropheseeRecordings) {
        "time span     0.000000000 .. 0.099952000 s"},
   };
   for (const Expected& s : samples) {
-    const std::string path = sample(s.file);
+    const std::string path = testing::sharedFormatSample(s.file);
     if (!std::filesystem::exists(path)) {
       GTEST_SKIP() << "sample recording " << path << " not found: the shared data folder (../shared/data beside the "
                    << "repository) is missing; these GPL files are not copied into the repository";
@@ -48,7 +46,7 @@ TEST(InfoCommand, DescribesPropheseeRecordings) {
 }
 
 TEST(InfoCommand, ExplicitPropheseeFormatMustMatchTheHeader) {
-  const std::string path = sample("evt3/evt3_sample.raw");
+  const std::string path = testing::sharedFormatSample("evt3/evt3_sample.raw");
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "sample recording " << path << " not found (../shared/data missing)";
   const auto result = runAsynevo("info --format evt2 --dataset " + path);
   EXPECT_EQ(result.exit_code, 1) << result.output;

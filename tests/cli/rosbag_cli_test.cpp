@@ -198,7 +198,7 @@ TEST(RosbagCli, CameraInfoTopicChoice) {
 }
 
 TEST(RosbagCli, InfoShowsBothClocksOfAnEventPacketBag) {
-  const std::string path = std::string(ASYNEVO_SHARED_DATA_DIR) + "/formats/rosbag/test_events_1.bag";
+  const std::string path = testing::sharedFormatSample("rosbag/test_events_1.bag");
   if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found (the shared data folder is missing)";
   const auto result = runAsynevo("info --dataset " + path);
   ASSERT_EQ(result.exit_code, 0) << result.output;

@@ -176,7 +176,7 @@ TEST(DatasetFolder, ReadsAPropheseeRecordingAndRejectsAmbiguity) {
 }
 
 TEST(DatasetFolder, ReadsAPropheseeDatRecording) {
-  const std::string sample = std::string(ASYNEVO_SHARED_DATA_DIR) + "/formats/dat/sample_ncars.dat";
+  const std::string sample = testing::sharedFormatSample("dat/sample_ncars.dat");
   if (!std::filesystem::exists(sample)) GTEST_SKIP() << "sample recording " << sample << " not found (../shared/data missing)";
   TempDir dir;
   std::filesystem::copy_file(sample, dir.file("events.dat"));  // a copy in a temporary folder, not in the repository
