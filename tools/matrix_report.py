@@ -110,9 +110,16 @@ def summary_table(groups):
     return "\n".join(lines)
 
 
+def features(r):
+    """Active features: mean over event time, and the median over it where the run recorded it."""
+    mean = cell(r.get("mean_active_features"), 0)
+    median = r.get("median_active_features")
+    return mean if median is None else "%s / %d" % (mean, median)
+
+
 def sequence_table(rows):
     lines = ["| sequence | half | sensor | noise | scene | motion | status | ATE % | RTE@10 % | vel % | "
-             "init s (attempts) | init after onset s | coverage % | segments | features | note |",
+             "init s (attempts) | init after onset s | coverage % | segments | features mean / median | note |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]  # fmt: skip
     for r in rows:
         ok = r.get("status") == "ok"
@@ -124,7 +131,7 @@ def sequence_table(rows):
             r["name"], r["half"], r["sensor"], r["noise"], r["scene"], r["motion"], r.get("status"),
             cell(r.get("ate_pct")) if ok else "–", cell(r.get("rte10_pct"), 1) if ok else "–",
             cell(r.get("vel_pct"), 1) if ok else "–", init, cell(r.get("init_after_onset_s")),
-            cell(r.get("coverage_pct"), 1), segments, cell(r.get("mean_active_features"), 0),
+            cell(r.get("coverage_pct"), 1), segments, features(r),
             (r.get("message") or "").replace("|", "/")[:160]))  # fmt: skip
     return "\n".join(lines)
 

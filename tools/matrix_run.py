@@ -128,6 +128,7 @@ def score(eval_json, stats, gt, est):
     s["coverage"] = coverage(est[:, 0], begin, end) if s["span_s"] else 0.0
     s["events"] = (stats or {}).get("events")
     s["mean_active_features"] = fe.get("mean_active_features")
+    s["median_active_features"] = fe.get("median_active_features")
     s["wall_s"] = (stats or {}).get("wall_time_s")
     s["real_time_factor"] = (stats or {}).get("real_time_factor")
     s["median_update_ms"] = (stats or {}).get("update_time", {}).get("median_ms")

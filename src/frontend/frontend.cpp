@@ -57,6 +57,18 @@ double FrontendStats::meanActiveFeatures() const {
   return span > 0 ? active_feature_seconds / span : 0.0;
 }
 
+int FrontendStats::activeFeaturesQuantile(double fraction) const {
+  double total = 0;
+  for (double sec : seconds_at_active_count) total += sec;
+  if (!(total > 0)) return 0;
+  double below = 0;
+  for (std::size_t count = 0; count < seconds_at_active_count.size(); ++count) {
+    below += seconds_at_active_count[count];
+    if (below >= fraction * total) return static_cast<int>(count);
+  }
+  return static_cast<int>(seconds_at_active_count.size()) - 1;
+}
+
 std::string FrontendStats::summary() const {
   std::string s;
   s += fmt::format("events            {} over {:.6f} s of event time ({:.0f} ev/s)\n", events, spanSeconds(),
@@ -72,8 +84,9 @@ std::string FrontendStats::summary() const {
                    candidates, corners, perSecond(corners));
   s += fmt::format("trackers          {} in-range updates, {} state changes\n", tracker_updates,
                    state_changes);
-  s += fmt::format("features          {} created, {} active now, {:.1f} active on average, {} at most\n",
-                   features_created, active_features, meanActiveFeatures(), max_active_features);
+  s += fmt::format(
+      "features          {} created, {} active now, {:.1f} active on average, median over time {}, {} at most\n",
+      features_created, active_features, meanActiveFeatures(), activeFeaturesQuantile(0.5), max_active_features);
   s += "features dropped ";
   for (int r = 0; r < kDropReasonCount; ++r)
     s += fmt::format(" {}={}", dropReasonName(static_cast<DropReason>(r)), features_dropped[r]);
@@ -541,7 +554,11 @@ void Frontend::adaptDetectionThreshold(int64_t t_ns) {
 }
 
 void Frontend::housekeeping(int64_t t_ns, MeasurementSink& sink) {
-  stats_.active_feature_seconds += stats_.active_features * durationSeconds(last_housekeeping_ns_, t_ns);
+  const double since_last_s = durationSeconds(last_housekeeping_ns_, t_ns);
+  stats_.active_feature_seconds += stats_.active_features * since_last_s;
+  const auto count = static_cast<std::size_t>(stats_.active_features);
+  if (count >= stats_.seconds_at_active_count.size()) stats_.seconds_at_active_count.resize(count + 1, 0.0);
+  stats_.seconds_at_active_count[count] += since_last_s;
   last_housekeeping_ns_ = t_ns;
   next_housekeeping_ns_ = t_ns + housekeeping_ns_;
   if (config_.harris_threshold_floor < 1.0 && t_ns >= next_threshold_update_ns_) adaptDetectionThreshold(t_ns);

@@ -396,7 +396,8 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("max_active_features", f.max_active_features)
       .add("harris_threshold_end", f.harris_threshold)
       .add("harris_threshold_min", f.min_harris_threshold)
-      .add("mean_active_features", f.meanActiveFeatures());
+      .add("mean_active_features", f.meanActiveFeatures())
+      .add("median_active_features", f.activeFeaturesQuantile(0.5));
   JsonObject dropped;
   for (int i = 0; i < frontend::kDropReasonCount; ++i)
     dropped.add(frontend::dropReasonName(static_cast<frontend::DropReason>(i)),

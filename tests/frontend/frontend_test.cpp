@@ -293,6 +293,38 @@ TEST(Frontend, MaxFeaturesIsRespected) {
   EXPECT_EQ(fe.stats().max_active_features, 3);
 }
 
+// The active count's distribution over event time: it covers the stream's span, and its median lies
+// between 0 and the most active at once; with a cap of 3 on 20 squares the count sits at the cap.
+TEST(Frontend, ActiveFeaturesOverTimeCoverTheSpanAndGiveTheirMedian) {
+  const int w = 200, h = 150;
+  std::vector<MovingSquare> squares;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 4; ++j) squares.push_back({25.0 + 32 * i, 22.0 + 28 * j, 12, 60, 20});
+  const auto events = simulateSquares(squares, w, h, 0.2);
+  FrontendConfig config;
+  config.max_features = 3;
+  Frontend fe(config, w, h);
+  MeasurementCollector out;
+  for (const Event& e : events) fe.process(e, out);
+  const FrontendStats& st = fe.stats();
+  double total = 0;
+  for (double sec : st.seconds_at_active_count) total += sec;
+  EXPECT_NEAR(total, st.spanSeconds(), 2e-3);  // housekeeping runs every millisecond
+  EXPECT_EQ(st.activeFeaturesQuantile(0.5), 3);
+  EXPECT_EQ(st.activeFeaturesQuantile(0.0), 0);  // no feature before the first corner
+  EXPECT_LE(st.activeFeaturesQuantile(1.0), st.max_active_features);
+}
+
+TEST(FrontendStats, ActiveFeaturesQuantileIsTheCountReachedAtThatShareOfTime) {
+  FrontendStats st;
+  EXPECT_EQ(st.activeFeaturesQuantile(0.5), 0);  // no time yet
+  st.seconds_at_active_count = {1.0, 0.0, 0.0, 1.0, 2.0};  // 1 s at 0, 1 s at 3, 2 s at 4
+  EXPECT_EQ(st.activeFeaturesQuantile(0.25), 0);
+  EXPECT_EQ(st.activeFeaturesQuantile(0.5), 3);
+  EXPECT_EQ(st.activeFeaturesQuantile(0.51), 4);
+  EXPECT_EQ(st.activeFeaturesQuantile(1.0), 4);
+}
+
 TEST(Frontend, UndistortionTableGivesNormalizedCoordinates) {
   UndistortionTable<float> table(40, 30);
   for (int y = 0; y < 30; ++y)

@@ -106,7 +106,10 @@ def units():
     check(matrix_run.coverage([5.0], 0.0, 10.0) == 0.0, "a lone pose covers nothing")
     stats = dict(estimator=dict(initialized=True, initialized_at_s=0.5, segments=[
         dict(ended_by="event_gap"), dict(ended_by="residual"), dict(ended_by="end_of_stream")]))  # fmt: skip
+    stats["frontend"] = dict(mean_active_features=41.6, median_active_features=48)
     scored = matrix_run.score(None, stats, np.zeros((0, 8)), np.zeros((0, 8)))
+    check(scored["mean_active_features"] == 41.6 and scored["median_active_features"] == 48,
+          "the score keeps the frontend's mean and median active features")  # fmt: skip
     check(scored["segments"] == 3 and scored["segment_ends"] == ["event_gap", "residual"],
           "the score counts the segments and says why each but the last ended")  # fmt: skip
     gt_t = np.arange(0.0, 3.0, 0.001)
@@ -136,7 +139,8 @@ def units():
     runs = os.path.join(tmp, "runs")
     for name, score in (
         ("c1-tune", dict(status="ok", ate_pct=1.0, rte10_pct=5.0, vel_pct=20.0, init_s=0.5, coverage=0.9, init_attempts=3,
-                         segments=2, segment_ends=["event_gap"])),
+                         segments=2, segment_ends=["event_gap"], mean_active_features=41.6,
+                         median_active_features=48)),
         ("c1-val", dict(status="failed", message="initialization never succeeded after 40 attempt(s)", coverage=0.0,
                         init_attempts=40)),
     ):  # fmt: skip
@@ -159,6 +163,7 @@ def units():
     check(code == 0 and "initialization never succeeded" in text and "| c1-val |" in text,
           "the report lists the failed run with its message")  # fmt: skip
     check("| 2 (event_gap) |" in text, "the report lists a run's segments and why each ended")
+    check("| 42 / 48 |" in text, "the report gives the active features' mean and median")
     check(os.path.exists(os.path.join(tmp, "report", "distributions.png")), "the report draws the distributions")
     doc = open(docs).read()
     check("old" not in doc and "before" in doc and "after" in doc and "| c1-tune |" in doc,

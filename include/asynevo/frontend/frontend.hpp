@@ -99,6 +99,8 @@ struct FrontendStats {
   int active_features = 0;
   int max_active_features = 0;
   double active_feature_seconds = 0;  ///< integral of the active count over event time
+  /// event time [s] spent at each active count (index = count): the distribution over time
+  std::vector<double> seconds_at_active_count;
   double harris_threshold = 0;        ///< the FA-Harris threshold now (adaptive detection)
   double min_harris_threshold = 0;    ///< the lowest it went
   int64_t first_t_ns = 0;
@@ -108,6 +110,9 @@ struct FrontendStats {
   /// Count per second of event time (0 for an empty span).
   double perSecond(uint64_t count) const;
   double meanActiveFeatures() const;
+  /// The active count that the features were at or below for at least `fraction` of the event time
+  /// (0.5: the median over time); 0 before any event time has passed.
+  int activeFeaturesQuantile(double fraction) const;
   /// Multi-line human-readable summary.
   std::string summary() const;
 };
