@@ -92,7 +92,16 @@ void SlidingWindowEstimator::addMeasurement(const TrackMeasurement& m) {
 
 // Alg. 1's "ended before t_eps" is read from the last measurement time (marginalizeDynamic): a feature
 // that stays quiet is marked like an ended one, and a later measurement of it starts a new trajectory.
-void SlidingWindowEstimator::endFeature(int64_t feature_id) { split_aliases_.erase(feature_id); }
+void SlidingWindowEstimator::endFeature(int64_t feature_id) {
+  // An ended feature sends no more measurements: what was kept to route or ignore them is forgotten,
+  // so these sets stay as small as the active features over a run of any length.
+  const auto alias = split_aliases_.find(feature_id);
+  if (alias != split_aliases_.end()) {
+    rejected_features_.erase(alias->second);
+    split_aliases_.erase(alias);
+  }
+  rejected_features_.erase(feature_id);
+}
 
 void SlidingWindowEstimator::advanceTo(int64_t t_ns) {
   // A gap in the events: nothing constrains the motion across it, so the segment ends at the last

@@ -47,6 +47,8 @@ RunFolderWriter::RunFolderWriter(const std::string& dir) : dir_(dir) {
   tracks_ = open("tracks.txt");
   feed_ = open("backend_feed.txt");
   timing_ = open("timing.csv");
+  landmark_rows_ = std::tmpfile();
+  if (!landmark_rows_) throw Error(fmt::format("{}: cannot create a temporary file for landmarks.ply", dir_));
   fmt::print(traj_, "# t tx ty tz qx qy qz qw  (T_w_c, camera-to-world; one line per final knot)\n");
   fmt::print(velocities_, "# t vx vy vz wx wy wz  (body-frame twist per knot)\n");
   fmt::print(tracks_, "# id t x y  (feature measurements, raw pixel coordinates)\n");
@@ -58,7 +60,7 @@ RunFolderWriter::RunFolderWriter(const std::string& dir) : dir_(dir) {
 }
 
 RunFolderWriter::~RunFolderWriter() {
-  for (std::FILE* f : {traj_, velocities_, tracks_, feed_, timing_})
+  for (std::FILE* f : {traj_, velocities_, tracks_, feed_, timing_, landmark_rows_})
     if (f) std::fclose(f);
 }
 
@@ -121,7 +123,9 @@ void RunFolderWriter::onUpdateRecords(const std::vector<backend::UpdateRecord>& 
 }
 
 void RunFolderWriter::onLandmarks(const std::vector<backend::LandmarkPoint>& landmarks) {
-  landmarks_.insert(landmarks_.end(), landmarks.begin(), landmarks.end());
+  for (const backend::LandmarkPoint& l : landmarks)
+    fmt::print(landmark_rows_, "{} {} {} {} {}\n", l.p_w.x(), l.p_w.y(), l.p_w.z(), l.observations, l.id);
+  landmarks_ += landmarks.size();
 }
 
 void RunFolderWriter::close() {
@@ -130,15 +134,29 @@ void RunFolderWriter::close() {
   closeChecked(tracks_, path("tracks.txt"));
   closeChecked(feed_, path("backend_feed.txt"));
   closeChecked(timing_, path("timing.csv"));
-  std::string ply;
-  ply += "ply\nformat ascii 1.0\n";
-  ply += "comment AsynEVO landmarks, world frame (map units; monocular scale)\n";
-  ply += fmt::format("element vertex {}\n", landmarks_.size());
-  ply += "property double x\nproperty double y\nproperty double z\n";
-  ply += "property int observations\nproperty int id\nend_header\n";
-  for (const backend::LandmarkPoint& l : landmarks_)
-    ply += fmt::format("{} {} {} {} {}\n", l.p_w.x(), l.p_w.y(), l.p_w.z(), l.observations, l.id);
-  writeText("landmarks.ply", ply);
+  writeLandmarks();
+}
+
+void RunFolderWriter::writeLandmarks() {
+  if (!landmark_rows_) return;
+  const std::string p = path("landmarks.ply");
+  std::FILE* f = std::fopen(p.c_str(), "w");
+  if (!f) throw Error(fmt::format("{}: cannot open file for writing", p));
+  fmt::print(f, "ply\nformat ascii 1.0\n");
+  fmt::print(f, "comment AsynEVO landmarks, world frame (map units; monocular scale)\n");
+  fmt::print(f, "element vertex {}\n", landmarks_);
+  fmt::print(f, "property double x\nproperty double y\nproperty double z\n");
+  fmt::print(f, "property int observations\nproperty int id\nend_header\n");
+  const bool rows_failed = std::ferror(landmark_rows_) != 0 || std::fflush(landmark_rows_) != 0;
+  std::rewind(landmark_rows_);
+  char buffer[1 << 16];
+  std::size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof buffer, landmark_rows_)) > 0) std::fwrite(buffer, 1, n, f);
+  const bool read_failed = std::ferror(landmark_rows_) != 0;
+  std::fclose(landmark_rows_);
+  landmark_rows_ = nullptr;
+  closeChecked(f, p);
+  if (rows_failed || read_failed) throw Error(fmt::format("{}: write failed (temporary rows file)", p));
 }
 
 void RunFolderWriter::writeText(const std::string& name, const std::string& text) const {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <map>
 #include <random>
+#include <set>
 #include <string>
 
 #include "estimator_harness.hpp"
@@ -178,6 +179,11 @@ TEST(SlidingWindowEstimator, RejectsWholeTrajectoriesThatAreNoFixedScenePoint) {
     EXPECT_GE(rejected, 1'000'000) << "a clean trajectory was rejected";
   }
   EXPECT_GT(with.stats.measurements_of_rejected_tracks, 0u);
+  // Once its feature ends, a rejected trajectory is forgotten (the set stays as small as the active
+  // features over a long run).
+  const std::set<int64_t> rejected = estimator.rejectedFeatures();
+  for (const int64_t ended : rejected) estimator.endFeature(ended);
+  EXPECT_TRUE(estimator.rejectedFeatures().empty());
   // The ATE is not compared: with 20 such corners among ~60 it is poor either way (0.78 m path; with /
   // without rejection 0.073 / 0.074 m with the three-span initializer, 0.126 / 0.062 m with the scored
   // one) and depends on when each corner is caught; docs/backend.md, "Where the error comes from".

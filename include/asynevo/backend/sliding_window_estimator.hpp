@@ -59,7 +59,7 @@ class SlidingWindowEstimator : public Estimator {
   /// Initialized and not lost since: a segment is open (docs/method/tracking_loss.md).
   bool tracking() const { return tracking_; }
   const TrackMap& tracks() const { return tracks_; }
-  /// Feature ids whose trajectories the RMS test rejected (track_outlier_rms_px).
+  /// Feature ids whose trajectories the RMS test rejected (track_outlier_rms_px) and that have not ended.
   const std::set<int64_t>& rejectedFeatures() const { return rejected_features_; }
   /// Feature ids whose later measurements extend a trajectory split off by track_split_px, with its id
   /// (until the frontend ends the feature).
@@ -169,7 +169,8 @@ class SlidingWindowEstimator : public Estimator {
   /// track_split_px (forgotten when the frontend ends the feature).
   std::map<int64_t, int64_t> split_aliases_;
   int64_t next_split_id_ = kFirstSplitId;
-  std::set<int64_t> rejected_features_;  ///< trajectories rejected by the RMS test: later measurements ignored
+  /// trajectories rejected by the RMS test whose feature has not ended: later measurements ignored
+  std::set<int64_t> rejected_features_;
   std::optional<FactorEntry> prior_;          ///< marginalization prior (knots, active landmarks)
   /// Gauge and scale anchors from initialization (a state prior on the first knot, a distance between
   /// two knots); each leaves for the marginalization prior with the first of its knots.

@@ -60,13 +60,14 @@ class RunFolderWriter final : public PipelineOutput {
   std::string path(const std::string& name) const;
   uint64_t knotsWritten() const { return knots_; }
   uint64_t measurementsWritten() const { return measurements_; }
-  uint64_t landmarksWritten() const { return landmarks_.size(); }
+  uint64_t landmarksWritten() const { return landmarks_; }
   int64_t lastKnotNs() const { return last_knot_ns_; }
   int64_t firstKnotNs() const { return first_knot_ns_; }
   UpdateTimeStats updateTimeStats() const;
 
  private:
   std::FILE* open(const std::string& name);
+  void writeLandmarks();
   std::string dir_;
   std::FILE* traj_ = nullptr;
   std::FILE* velocities_ = nullptr;
@@ -79,7 +80,10 @@ class RunFolderWriter final : public PipelineOutput {
   int64_t last_knot_ns_ = 0;
   std::vector<double> total_ms_;
   int max_window_knots_ = 0;
-  std::vector<backend::LandmarkPoint> landmarks_;
+  /// landmarks.ply's rows as they come (an anonymous temporary file): the header that counts them is
+  /// written at close, and the run holds none of them in memory
+  std::FILE* landmark_rows_ = nullptr;
+  uint64_t landmarks_ = 0;
 };
 
 /// Minimal JSON text building (no library needed): an object written key by key.
