@@ -233,8 +233,11 @@ int main(int argc, char** argv) try {
     const auto t_ns = parseSecondsToNs(t_text);
     if (!t_ns) throw std::runtime_error(fmt::format("{}/tracks.txt: bad time '{}'", args.run, t_text));
     m.t_ns = *t_ns;
+    // --skip-ms counts from the first line's time. Lines are in the frontend's output order, not
+    // strictly in time (a measurement can be a little older than the line before it), so without
+    // --skip-ms nothing is compared: every measurement is fed, as the run fed it.
     if (!skip_until_ns) skip_until_ns = m.t_ns + std::llround(args.skip_ms * 1e6);
-    if (m.t_ns < *skip_until_ns) {
+    if (args.skip_ms > 0 && m.t_ns < *skip_until_ns) {
       ++skipped;
       continue;
     }

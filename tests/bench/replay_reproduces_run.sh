@@ -41,3 +41,16 @@ if ! grep -Eq "fed [0-9]+ measurements \([1-9][0-9]* skipped\)" "$work/skip.log"
   exit 1
 fi
 echo "--skip-ms 400: the estimate begins at $first_skip s instead of $first_run s"
+# Lines of tracks.txt follow the frontend's output order, not strictly time: a measurement a little
+# older than the first line must still be fed without --skip-ms (a replay feeds what the run fed).
+mkdir -p "$work/older"
+cp "$work/run/config.yaml" "$work/run/backend_feed.txt" "$work/older/"
+awk '/^#/ { print; next } !done { print; printf "999999 %.9f %s %s\n", $2 - 0.000001, $3, $4; done = 1; next } { print }' \
+  "$work/run/tracks.txt" > "$work/older/tracks.txt"
+lines=$(grep -vc '^#' "$work/older/tracks.txt")
+"$replay" "$work/older" "$work/sequence" "$work/older.txt" > "$work/older.log"
+if ! grep -q "fed $lines measurements (0 skipped)" "$work/older.log"; then
+  echo "FAIL: a measurement older than the first line was not fed: $(grep 'fed ' "$work/older.log")" >&2
+  exit 1
+fi
+echo "a measurement older than the first line is fed: $lines of $lines"
