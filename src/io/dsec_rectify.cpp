@@ -10,6 +10,7 @@
 #include "asynevo/core/error.hpp"
 #include "dsec_reader.hpp"
 #include "hdf5_handle.hpp"
+#include "hdf5_isolation.hpp"
 
 namespace asynevo::io_detail {
 
@@ -32,6 +33,8 @@ std::string rectifyMapBeside(const std::string& events_path) {
 
 RectifyMap::RectifyMap(const std::string& path, int width, int height, const std::string& size_origin)
     : width_(width) {
+  // libhdf5 meets the file in a child process first (io/hdf5_isolation.hpp).
+  if (!insideHdf5Child()) parseHdf5InChild(path, [&] { const RectifyMap probe(path, width, height, size_origin); });
   const H5QuietErrors quiet;
   const H5File file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
   if (!file.valid())

@@ -14,6 +14,7 @@
 #include "dsec_reader.hpp"
 #include "ecd_text_reader.hpp"
 #include "event_file_reader.hpp"
+#include "hdf5_isolation.hpp"
 #include "mvsec_reader.hpp"
 #include "prophesee_reader.hpp"
 #include "rosbag_reader.hpp"
@@ -70,10 +71,17 @@ std::string detectFormat(const std::string& path) {
   return "ecd";
 }
 
-}  // namespace
+/// True for a file libhdf5 is about to parse: format mvsec or dsec, named or detected by the signature.
+bool isHdf5EventFile(const std::string& path, const std::string& format) {
+  if (format == "mvsec" || format == "dsec") return true;
+  if (format != "auto") return false;
+  FileHandle file = openFile(path, "rb");
+  unsigned char head[8];
+  return file && std::fread(head, 1, 8, file.get()) == 8 && std::memcmp(head, kHdf5Signature, 8) == 0;
+}
 
-std::unique_ptr<EventReader> openEventReader(const std::string& path, const ReaderOptions& options) {
-  if (options.packet_size <= 0) throw ConfigError("packet size must be positive");
+/// The reader of the named (or detected) format, opened in this process.
+std::unique_ptr<EventReader> openHere(const std::string& path, const ReaderOptions& options) {
   const std::string format = options.format == "auto" ? detectFormat(path) : options.format;
   // A named rectification map is a request: a format that cannot apply one says so instead of ignoring it.
   if (!options.rectify_map.empty() && options.rectify_map != "none" && format != "dsec") {
@@ -93,6 +101,22 @@ std::unique_ptr<EventReader> openEventReader(const std::string& path, const Read
   if (format == "dsec") return std::make_unique<io_detail::DsecReader>(path, options);
   throw InputError(path, "unknown event format '" + format +
                              "' (supported: auto, ecd, mvsec, aevt, evt3, evt2, dat, aedat4, rosbag, dsec)");
+}
+
+}  // namespace
+
+std::unique_ptr<EventReader> openEventReader(const std::string& path, const ReaderOptions& options) {
+  if (options.packet_size <= 0) throw ConfigError("packet size must be positive");
+  // libhdf5 meets the file in a child process first: its format detection, the reader's opening and
+  // the first packet (io/hdf5_isolation.hpp).
+  if (isHdf5EventFile(path, options.format)) {
+    io_detail::parseHdf5InChild(path, [&] {
+      const std::unique_ptr<EventReader> reader = openHere(path, options);
+      EventPacket packet;
+      reader->read(packet);
+    });
+  }
+  return openHere(path, options);
 }
 
 std::vector<Event> readAllEvents(const std::string& path, const ReaderOptions& options) {

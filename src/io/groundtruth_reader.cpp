@@ -12,6 +12,7 @@
 #include "asynevo/core/time.hpp"
 #include "asynevo/io/file_handle.hpp"
 #include "hdf5_handle.hpp"
+#include "hdf5_isolation.hpp"
 
 namespace asynevo {
 
@@ -58,6 +59,8 @@ bool isHdf5(const std::string& path) {
 }  // namespace
 
 StampedTrajectory readMvsecGroundTruth(const std::string& path) {
+  // libhdf5 meets the file in a child process first (io/hdf5_isolation.hpp).
+  if (!io_detail::insideHdf5Child()) io_detail::parseHdf5InChild(path, [&] { readMvsecGroundTruth(path); });
   const H5QuietErrors quiet;
   const H5File file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
   if (!file.valid()) throw InputError(path, "cannot open as HDF5 (missing, unreadable or truncated file)");
