@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "allocator.hpp"
 #include "asynevo/core/error.hpp"
 #include "asynevo/pipeline/demo.hpp"
 #include "commands.hpp"
@@ -35,6 +36,7 @@ void addDemoCommand(CLI::App& app) {
     auto sim_progress = std::make_unique<Progress>();
     int64_t sim_first = -1;
     std::unique_ptr<Progress> run_progress;
+    useOneAllocatorArena();  // before the demo's threads: flat memory over long runs
     const pipeline::DemoResult result = pipeline::runDemo(
         *options,
         [&](int64_t t_ns, uint64_t events) {

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "allocator.hpp"
 #include "asynevo/core/error.hpp"
 #include "asynevo/core/time.hpp"
 #include "asynevo/pipeline/run.hpp"
@@ -53,6 +54,7 @@ void runRun(RunCliOptions& options) {
       throw Error(pipeline::initializationFailureMessage(summary) + "\n  partial outputs are in " + summary.out_dir);
     return;
   }
+  useOneAllocatorArena();  // before the run's threads: flat memory over long runs
   Progress progress;
   pipeline::RunSummary summary;
   summary = pipeline::runDataset(options.run, [&](const pipeline::PipelineProgress& p) {

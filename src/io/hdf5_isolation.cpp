@@ -1,7 +1,7 @@
 #include "hdf5_isolation.hpp"
 
-#include <fmt/format.h>
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -60,7 +60,8 @@ Hdf5ChildLimits& defaultHdf5ChildLimits() {
   return limits;
 }
 
-void parseHdf5InChild(const std::string& path, const std::function<void()>& parse, const Hdf5ChildLimits& limits) {
+void parseHdf5InChild(const std::string& path, const std::function<void()>& parse,
+                      const Hdf5ChildLimits& limits) {
   if (inside_child) {
     parse();
     return;
@@ -97,8 +98,9 @@ void parseHdf5InChild(const std::string& path, const std::function<void()>& pars
     const uint64_t resident = residentBytes(pid);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (resident > resident_at_fork && resident - resident_at_fork > limits.max_resident_bytes) {
-      stopped = fmt::format("libhdf5 took more than {} MiB of memory reading the file's structure and was stopped",
-                            limits.max_resident_bytes >> 20);
+      stopped =
+          fmt::format("libhdf5 took more than {} MiB of memory reading the file's structure and was stopped",
+                      limits.max_resident_bytes >> 20);
     } else if (seconds > limits.max_seconds) {
       stopped = fmt::format("libhdf5 took more than {:g} s reading the file's structure and was stopped",
                             limits.max_seconds);
@@ -115,13 +117,15 @@ void parseHdf5InChild(const std::string& path, const std::function<void()>& pars
   if (WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 2)) return;
   if (WIFSIGNALED(status)) {
     const int sig = WTERMSIG(status);
-    throw InputError(path, fmt::format("libhdf5 crashed (signal {}, {}) reading the file's structure: a corrupt "
-                                       "HDF5 file",
-                                       sig, strsignal(sig)));
+    throw InputError(path,
+                     fmt::format("libhdf5 crashed (signal {}, {}) reading the file's structure: a corrupt "
+                                 "HDF5 file",
+                                 sig, strsignal(sig)));
   }
-  throw InputError(path, fmt::format("libhdf5 failed (exit code {}) reading the file's structure: a corrupt HDF5 "
-                                     "file",
-                                     WIFEXITED(status) ? WEXITSTATUS(status) : -1));
+  throw InputError(path,
+                   fmt::format("libhdf5 failed (exit code {}) reading the file's structure: a corrupt HDF5 "
+                               "file",
+                               WIFEXITED(status) ? WEXITSTATUS(status) : -1));
 }
 
 }  // namespace asynevo::io_detail

@@ -68,7 +68,8 @@ TEST(Hdf5Isolation, AChildPastItsMemoryOrTimeLimitIsStopped) {
   limits.max_seconds = 0.2;
   const auto start = std::chrono::steady_clock::now();
   const std::string slow = errorOf([&] {
-    parseHdf5InChild("slow.h5", [] { std::this_thread::sleep_for(std::chrono::seconds(30)); }, limits);
+    parseHdf5InChild(
+        "slow.h5", [] { std::this_thread::sleep_for(std::chrono::seconds(30)); }, limits);
   });
   EXPECT_NE(slow.find("more than 0.2 s"), std::string::npos) << slow;
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
