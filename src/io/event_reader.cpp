@@ -25,7 +25,7 @@ namespace {
 
 namespace aedat4 = io_detail::aedat4;
 
-constexpr unsigned char kHdf5Signature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+using io_detail::kHdf5Signature;
 
 std::string detectFormat(const std::string& path) {
   FileHandle file = openFile(path, "rb");
@@ -74,10 +74,7 @@ std::string detectFormat(const std::string& path) {
 /// True for a file libhdf5 is about to parse: format mvsec or dsec, named or detected by the signature.
 bool isHdf5EventFile(const std::string& path, const std::string& format) {
   if (format == "mvsec" || format == "dsec") return true;
-  if (format != "auto") return false;
-  FileHandle file = openFile(path, "rb");
-  unsigned char head[8];
-  return file && std::fread(head, 1, 8, file.get()) == 8 && std::memcmp(head, kHdf5Signature, 8) == 0;
+  return format == "auto" && io_detail::hasHdf5Signature(path);
 }
 
 /// The reader of the named (or detected) format, opened in this process.

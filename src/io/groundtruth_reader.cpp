@@ -50,12 +50,6 @@ std::vector<double> readDoubles(const std::string& file_path, hid_t file, const 
   return values;
 }
 
-bool isHdf5(const std::string& path) {
-  FileHandle file = openFile(path, "rb");
-  unsigned char head[8] = {};
-  return file && std::fread(head, 1, 8, file.get()) == 8 && std::memcmp(head, "\x89HDF\r\n\x1a\n", 8) == 0;
-}
-
 }  // namespace
 
 StampedTrajectory readMvsecGroundTruth(const std::string& path) {
@@ -96,7 +90,7 @@ StampedTrajectory readMvsecGroundTruth(const std::string& path) {
 }
 
 StampedTrajectory readGroundTruth(const std::string& path, TrajectoryReadReport* report) {
-  if (isHdf5(path)) return readMvsecGroundTruth(path);
+  if (io_detail::hasHdf5Signature(path)) return readMvsecGroundTruth(path);
   return readTumTrajectory(path, report);
 }
 

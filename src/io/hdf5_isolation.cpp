@@ -14,6 +14,7 @@
 #include <fstream>
 
 #include "asynevo/core/error.hpp"
+#include "asynevo/io/file_handle.hpp"
 
 // Set by the sanitizer runtimes when a build uses them (weak: null otherwise). libFuzzer registers its
 // crash reporter through it; the child clears it, so a crash there is the child's only.
@@ -52,6 +53,13 @@ uint64_t residentBytes(pid_t pid) {
 }
 
 }  // namespace
+
+bool hasHdf5Signature(const std::string& path) {
+  FileHandle file = openFile(path, "rb");
+  unsigned char head[sizeof kHdf5Signature] = {};
+  return file && std::fread(head, 1, sizeof head, file.get()) == sizeof head &&
+         std::memcmp(head, kHdf5Signature, sizeof head) == 0;
+}
 
 bool insideHdf5Child() { return inside_child; }
 

@@ -13,6 +13,12 @@
 
 namespace asynevo::io_detail {
 
+/// The 8 bytes an HDF5 file begins with (HDF5 File Format Specification, "Format Signature").
+inline constexpr unsigned char kHdf5Signature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+
+/// True when `path` can be read and begins with kHdf5Signature.
+bool hasHdf5Signature(const std::string& path);
+
 /// A valid file's structure and first packet take a few MiB and well under a second (the readers
 /// stream: a chunk cache, one packet); the limits leave a wide margin.
 struct Hdf5ChildLimits {

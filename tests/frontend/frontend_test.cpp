@@ -279,11 +279,17 @@ TEST(Frontend, PatchSearchKeepsFeaturesApart) {
   EXPECT_EQ(max_id + 1, static_cast<int64_t>(fe.stats().features_created) - 0);
 }
 
-TEST(Frontend, MaxFeaturesIsRespected) {
-  const int w = 200, h = 150;
+/// 20 small squares on a 5 x 4 grid of a 200 x 150 image, all moving alike.
+std::vector<MovingSquare> gridOfSquares() {
   std::vector<MovingSquare> squares;
   for (int i = 0; i < 5; ++i)
     for (int j = 0; j < 4; ++j) squares.push_back({25.0 + 32 * i, 22.0 + 28 * j, 12, 60, 20});
+  return squares;
+}
+
+TEST(Frontend, MaxFeaturesIsRespected) {
+  const int w = 200, h = 150;
+  const std::vector<MovingSquare> squares = gridOfSquares();
   const auto events = simulateSquares(squares, w, h, 0.06);
   FrontendConfig config;
   config.max_features = 3;
@@ -297,9 +303,7 @@ TEST(Frontend, MaxFeaturesIsRespected) {
 // between 0 and the most active at once; with a cap of 3 on 20 squares the count sits at the cap.
 TEST(Frontend, ActiveFeaturesOverTimeCoverTheSpanAndGiveTheirMedian) {
   const int w = 200, h = 150;
-  std::vector<MovingSquare> squares;
-  for (int i = 0; i < 5; ++i)
-    for (int j = 0; j < 4; ++j) squares.push_back({25.0 + 32 * i, 22.0 + 28 * j, 12, 60, 20});
+  const std::vector<MovingSquare> squares = gridOfSquares();
   const auto events = simulateSquares(squares, w, h, 0.2);
   FrontendConfig config;
   config.max_features = 3;
