@@ -196,7 +196,7 @@ void evaluateSimulated(const Config& config, const std::string& spec, int worst)
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int main(int argc, char** argv) try {
   Config config;
   bool accel = false;
   std::string tracks_path;
@@ -216,6 +216,11 @@ int main(int argc, char** argv) {
       worst = std::stoi(argv[++i]);
     } else if (a == "--tracks" && i + 1 < argc) {
       tracks_path = argv[++i];
+    } else if (a == "--help" || a == "-h" || a.rfind("--", 0) == 0) {
+      fmt::print(a.rfind("--help", 0) == 0 || a == "-h" ? stdout : stderr,
+                 "usage: frontend_eval [--yaml YAML] [--accel] [--tracks FILE] [--worst N] "
+                 "(DIR | --sim SCENE:MOTION:SECONDS[:SEED] | --synthetic)...\n");
+      return a == "--help" || a == "-h" ? 0 : 2;
     } else {
       dirs.push_back(a);
     }
@@ -275,4 +280,7 @@ int main(int argc, char** argv) {
     }
   }
   return 0;
+} catch (const std::exception& e) {
+  std::cerr << "frontend_eval: " << e.what() << "\n";
+  return 1;
 }
