@@ -214,6 +214,7 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
       min_dt_ns_(msToNs(config.min_dt_ms)),
       max_idle_ns_(msToNs(config.max_idle_ms)),
       init_timeout_ns_(msToNs(config.init_timeout_ms)),
+      init_timeout_max_ns_(msToNs(config.init_timeout_max_ms)),
       housekeeping_ns_(std::max<int64_t>(1, msToNs(config.housekeeping_ms))),
       drift_check_ns_(std::max<int64_t>(1, msToNs(config.drift_check_ms))),
       neighbour_check_ns_(std::max<int64_t>(1, msToNs(config.neighbour_check_ms))),
@@ -563,12 +564,24 @@ void Frontend::housekeeping(int64_t t_ns, MeasurementSink& sink) {
   next_housekeeping_ns_ = t_ns + housekeeping_ns_;
   if (config_.harris_threshold_floor < 1.0 && t_ns >= next_threshold_update_ns_) adaptDetectionThreshold(t_ns);
   if (max_rotation_rad_ > 0) updateCommonRoll();
+  int tracking = 0;  // initialized features: the ones whose state changes measure the scene's motion
+  if (config_.init_timeout_scene_px > 0)
+    for (const Slot& s : slots_) tracking += s.id >= 0 && s.tracker->initialized() ? 1 : 0;
   for (int slot = 0; slot < static_cast<int>(slots_.size()); ++slot) {
     Slot& s = slots_[slot];
     if (s.id < 0) continue;
     HasteTracker& tracker = *s.tracker;
     if (!tracker.initialized()) {
-      if (t_ns - s.created_ns > init_timeout_ns_) drop(slot, DropReason::kInitTimeout, t_ns, sink);
+      // Waiting for its first window: past init_timeout_ms, and (with init_timeout_scene_px) once the
+      // scene moved that far since its creation (its corner has moved on without it) or past
+      // init_timeout_max_ms. A tracker has no state change before its window fills, so
+      // scene_changes_at_last_change still holds the count at its creation.
+      const int64_t age = t_ns - s.created_ns;
+      if (age > init_timeout_ns_ &&
+          (config_.init_timeout_scene_px <= 0 || age > init_timeout_max_ns_ ||
+           static_cast<double>(stats_.state_changes - s.scene_changes_at_last_change) >=
+               config_.init_timeout_scene_px * std::max(tracking, 1)))
+        drop(slot, DropReason::kInitTimeout, t_ns, sink);
     } else if (t_ns - s.last_change_ns > max_idle_ns_ &&
                static_cast<double>(stats_.state_changes - s.scene_changes_at_last_change) >=
                    config_.idle_min_scene_motion_px * stats_.active_features) {

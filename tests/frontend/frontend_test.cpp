@@ -230,6 +230,73 @@ TEST(Frontend, ACameraAtRestKeepsItsFeatures) {
   EXPECT_GT(idle_time_alone, idle_default);
 }
 
+// init_timeout_scene_px: a slow square's corners gather their first window over more than
+// init_timeout_ms while a fast square moves the scene on. Time alone drops them before their windows
+// fill (nothing is measured on the slow square); with a bound on the scene's motion larger than what
+// the fast square makes meanwhile they wait, start and are measured; init_timeout_max_ms still ends
+// the wait when it is shorter than what they need.
+TEST(Frontend, ASlowSceneGivesWeakCornersLongerToStartWhenTheTimeOutFollowsTheMotion) {
+  const int w = 160, h = 120;
+  const std::vector<MovingSquare> squares = {{20, 20, 30, 8, 5}, {100, 40, 26, 0, 60}};
+  const auto events = simulateSquares(squares, w, h, 0.8);
+  struct Outcome {
+    uint64_t timeouts = 0;
+    int slow_measurements = 0;
+  };
+  auto run = [&](double scene_px, double max_ms) {
+    FrontendConfig config;
+    config.init_timeout_scene_px = scene_px;
+    config.init_timeout_max_ms = max_ms;
+    Frontend fe(config, w, h);
+    MeasurementCollector out;
+    for (const Event& e : events) fe.process(e, out);
+    Outcome o;
+    o.timeouts = fe.stats().features_dropped[static_cast<int>(DropReason::kInitTimeout)];
+    for (const auto& m : out.measurements) o.slow_measurements += m.x < 70.f ? 1 : 0;
+    return o;
+  };
+  const Outcome time_alone = run(0, 500);
+  const Outcome motion = run(1000, 700);
+  const Outcome capped = run(1000, 150);
+  EXPECT_GT(time_alone.timeouts, 0u);
+  EXPECT_EQ(time_alone.slow_measurements, 0);
+  EXPECT_GT(motion.slow_measurements, 3);
+  EXPECT_LT(motion.timeouts, time_alone.timeouts);
+  EXPECT_EQ(capped.slow_measurements, 0);
+  EXPECT_GT(capped.timeouts, 0u);
+}
+
+// A small bound on the scene's motion changes nothing where the scene moves fast: the fast square
+// moves that far within init_timeout_ms, so the trackers end as they do with time alone.
+TEST(Frontend, AFastSceneDropsTrackersAsTimeAloneWhenTheTimeOutFollowsTheMotion) {
+  const int w = 160, h = 120;
+  const std::vector<MovingSquare> squares = {{20, 20, 30, 8, 5}, {100, 40, 26, 0, 60}};
+  const auto events = simulateSquares(squares, w, h, 0.8);
+  auto ends = [&](double scene_px) {
+    FrontendConfig config;
+    config.init_timeout_scene_px = scene_px;
+    Frontend fe(config, w, h);
+    MeasurementCollector out;
+    for (const Event& e : events) fe.process(e, out);
+    std::vector<std::pair<int64_t, int64_t>> result;
+    for (const FeatureEnd& e : out.ends)
+      if (e.reason == DropReason::kInitTimeout) result.emplace_back(e.feature_id, e.t_ns);
+    return result;
+  };
+  const auto time_alone = ends(0);
+  EXPECT_FALSE(time_alone.empty());
+  EXPECT_EQ(ends(0.5), time_alone);
+}
+
+TEST(Frontend, InitTimeOutBoundsAreValidated) {
+  FrontendConfig config;
+  config.init_timeout_max_ms = config.init_timeout_ms / 2;
+  EXPECT_THROW(config.validate(), ConfigError);
+  config = FrontendConfig{};
+  config.init_timeout_scene_px = -1;
+  EXPECT_THROW(config.validate(), ConfigError);
+}
+
 TEST(Frontend, BadEventsAreCountedNotProcessed) {
   FrontendConfig config;
   config.max_time_reversal_us = 1.0;

@@ -309,6 +309,7 @@ class Frontend {
   int64_t min_dt_ns_;
   int64_t max_idle_ns_;
   int64_t init_timeout_ns_;
+  int64_t init_timeout_max_ns_;
   int64_t housekeeping_ns_;
   int64_t drift_check_ns_;
   int64_t neighbour_check_ns_;

@@ -60,6 +60,8 @@ void FrontendConfig::validate() const {
   requireRange("frontend.max_idle_ms", max_idle_ms, 0.001, 1e9);
   requireRange("frontend.idle_min_scene_motion_px", idle_min_scene_motion_px, 0.0, 1e6);
   requireRange("frontend.init_timeout_ms", init_timeout_ms, 0.001, 1e9);
+  requireRange("frontend.init_timeout_scene_px", init_timeout_scene_px, 0.0, 1e6);
+  requireRange("frontend.init_timeout_max_ms", init_timeout_max_ms, init_timeout_ms, 1e9);
   requireRange("frontend.housekeeping_ms", housekeeping_ms, 0.001, 1e6);
   requireRange("frontend.min_anisotropy", min_anisotropy, 0.0, 1.0);
   requireRange("frontend.max_drift_px", max_drift_px, 0.0, 6.0);

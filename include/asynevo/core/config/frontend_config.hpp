@@ -61,7 +61,14 @@ struct FrontendConfig {
   /// ...if meanwhile the features moved this many pixels on average (state changes per active feature;
   /// 0: time alone decides). A camera at rest, or reversing, moves no tracker: its features stay.
   double idle_min_scene_motion_px = 1.0;
-  double init_timeout_ms = 100.0;    ///< a tracker not initialized after this long is dropped
+  double init_timeout_ms = 100.0;    ///< a tracker not initialized after this long is dropped...
+  /// ...once the tracking features have also moved this many pixels on average since it was created
+  /// (state changes per initialized feature; 0: time alone decides). A slow scene gives a weak corner
+  /// longer to gather its first window; a fast one drops it as early as before.
+  double init_timeout_scene_px = 0.0;
+  /// With init_timeout_scene_px: a tracker not initialized after this long is dropped however little
+  /// the scene moved (a stream whose trackers all wait moves none of them).
+  double init_timeout_max_ms = 500.0;
   double housekeeping_ms = 1.0;      ///< period (event time) of the idle/time-out/quality checks
   double min_anisotropy = 0.06;      ///< quality: min eigenvalue ratio of the window events' spread
   double max_drift_px = 4.0;         ///< drift test: max offset of the first-template match (0 = off)
@@ -131,7 +138,13 @@ struct FrontendConfig {
     v("idle_min_scene_motion_px", idle_min_scene_motion_px,
       "...if meanwhile the features moved this far on average [px] (0 = time alone; a camera at rest keeps its features)");
     v("init_timeout_ms", init_timeout_ms,
-      "a tracker that has not gathered its first event window after this long is dropped");
+      "a tracker that has not gathered its first event window after this long is dropped...");
+    v("init_timeout_scene_px", init_timeout_scene_px,
+      "...once the tracking features have also moved this far on average since it was created [px] (0 = time "
+      "alone; a slow scene gives a weak corner longer to fill its first window)");
+    v("init_timeout_max_ms", init_timeout_max_ms,
+      "with init_timeout_scene_px: a tracker without its first window after this long is dropped however "
+      "little the scene moved");
     v("housekeeping_ms", housekeeping_ms, "event-time period of the idle, time-out and quality checks");
     v("min_anisotropy", min_anisotropy,
       "quality test: a feature is dropped when its window events spread along a line (ratio of the "
