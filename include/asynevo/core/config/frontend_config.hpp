@@ -65,7 +65,7 @@ struct FrontendConfig {
   /// ...once the tracking features have also moved this many pixels on average since it was created
   /// (state changes per initialized feature; 0: time alone decides). A slow scene gives a weak corner
   /// longer to gather its first window; a fast one drops it as early as before.
-  double init_timeout_scene_px = 0.0;
+  double init_timeout_scene_px = 12.0;
   /// With init_timeout_scene_px: a tracker not initialized after this long is dropped however little
   /// the scene moved (a stream whose trackers all wait moves none of them).
   double init_timeout_max_ms = 500.0;
