@@ -3,7 +3,8 @@
 short sequence back to back (`--repeat`), with the process's resident memory sampled once a second and
 the per-update time read from timing.csv. Memory and update time must stay flat: the tool reports the
 slope of each over time and the ratio of the last tenth's median to the second tenth's (the first
-tenth is start-up and is left out of both).
+tenth is start-up and is left out of both); for the update time also issue 23's figure, the 95th
+percentile of the last tenth over that of the first.
 
   /usr/bin/python3 tools/soak.py --dataset SEQ --repeat 180 --out soak-out     # 30 min of event time
 
@@ -44,6 +45,17 @@ def trend(t, y):
     slope = float(np.polyfit(t[k:], y[k:], 1)[0])
     first, last = float(np.median(y[k:2 * k])), float(np.median(y[-k:]))
     return slope, (last / first if first > 0 else None)
+
+
+def p95_ratio(y):
+    """Issue 23's figure: the 95th percentile of the last tenth over that of the first tenth (start-up
+    included); None when too short."""
+    y = np.asarray(y, dtype=float)
+    k = len(y) // 10
+    if k < 2:
+        return None
+    first = float(np.percentile(y[:k], 95))
+    return float(np.percentile(y[-k:], 95)) / first if first > 0 else None
 
 
 def read_timing(path):
@@ -96,8 +108,9 @@ def main():
         rss_mib=dict(first=rss[0] if rss else None, last=rss[-1] if rss else None, max=max(rss) if rss else None,
                      slope_per_min=rss_slope * 60 if rss_slope is not None else None, last_first_ratio=rss_ratio),
         update_ms=dict(median=float(np.median(total_ms)) if len(total_ms) else None,
+                       p95=float(np.percentile(total_ms, 95)) if len(total_ms) else None,
                        slope_per_min_of_event_time=upd_slope * 60 if upd_slope is not None else None,
-                       last_first_ratio=upd_ratio),
+                       last_first_ratio=upd_ratio, p95_last_over_first_tenth=p95_ratio(total_ms)),
     )  # fmt: skip
     with open(os.path.join(args.out, "soak.json"), "w") as f:
         json.dump(result, f, indent=1)
