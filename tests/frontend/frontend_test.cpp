@@ -235,23 +235,32 @@ TEST(Frontend, ACameraAtRestKeepsItsFeatures) {
 // fill (nothing is measured on the slow square); with a bound on the scene's motion larger than what
 // the fast square makes meanwhile they wait, start and are measured; init_timeout_max_ms still ends
 // the wait when it is shorter than what they need.
-TEST(Frontend, ASlowSceneGivesWeakCornersLongerToStartWhenTheTimeOutFollowsTheMotion) {
+/// A slow square (left, 9 px/s) and a fast one (right, 60 px/s) for 0.8 s, run through a frontend with
+/// the given start-up time-out settings (without finish(): what the time-out ended is what ended).
+MeasurementCollector slowAndFastSquares(double scene_px, double max_ms, FrontendStats& stats) {
   const int w = 160, h = 120;
-  const std::vector<MovingSquare> squares = {{20, 20, 30, 8, 5}, {100, 40, 26, 0, 60}};
-  const auto events = simulateSquares(squares, w, h, 0.8);
+  static const std::vector<Event> events =
+      simulateSquares({{20, 20, 30, 8, 5}, {100, 40, 26, 0, 60}}, w, h, 0.8);
+  FrontendConfig config;
+  config.init_timeout_scene_px = scene_px;
+  config.init_timeout_max_ms = max_ms;
+  Frontend fe(config, w, h);
+  MeasurementCollector out;
+  for (const Event& e : events) fe.process(e, out);
+  stats = fe.stats();
+  return out;
+}
+
+TEST(Frontend, ASlowSceneGivesWeakCornersLongerToStartWhenTheTimeOutFollowsTheMotion) {
   struct Outcome {
     uint64_t timeouts = 0;
     int slow_measurements = 0;
   };
-  auto run = [&](double scene_px, double max_ms) {
-    FrontendConfig config;
-    config.init_timeout_scene_px = scene_px;
-    config.init_timeout_max_ms = max_ms;
-    Frontend fe(config, w, h);
-    MeasurementCollector out;
-    for (const Event& e : events) fe.process(e, out);
+  auto run = [](double scene_px, double max_ms) {
+    FrontendStats stats;
+    const MeasurementCollector out = slowAndFastSquares(scene_px, max_ms, stats);
     Outcome o;
-    o.timeouts = fe.stats().features_dropped[static_cast<int>(DropReason::kInitTimeout)];
+    o.timeouts = stats.features_dropped[static_cast<int>(DropReason::kInitTimeout)];
     for (const auto& m : out.measurements) o.slow_measurements += m.x < 70.f ? 1 : 0;
     return o;
   };
@@ -269,15 +278,9 @@ TEST(Frontend, ASlowSceneGivesWeakCornersLongerToStartWhenTheTimeOutFollowsTheMo
 // A small bound on the scene's motion changes nothing where the scene moves fast: the fast square
 // moves that far within init_timeout_ms, so the trackers end as they do with time alone.
 TEST(Frontend, AFastSceneDropsTrackersAsTimeAloneWhenTheTimeOutFollowsTheMotion) {
-  const int w = 160, h = 120;
-  const std::vector<MovingSquare> squares = {{20, 20, 30, 8, 5}, {100, 40, 26, 0, 60}};
-  const auto events = simulateSquares(squares, w, h, 0.8);
-  auto ends = [&](double scene_px) {
-    FrontendConfig config;
-    config.init_timeout_scene_px = scene_px;
-    Frontend fe(config, w, h);
-    MeasurementCollector out;
-    for (const Event& e : events) fe.process(e, out);
+  auto ends = [](double scene_px) {
+    FrontendStats stats;
+    const MeasurementCollector out = slowAndFastSquares(scene_px, FrontendConfig{}.init_timeout_max_ms, stats);
     std::vector<std::pair<int64_t, int64_t>> result;
     for (const FeatureEnd& e : out.ends)
       if (e.reason == DropReason::kInitTimeout) result.emplace_back(e.feature_id, e.t_ns);
