@@ -77,7 +77,8 @@ TEST(Frontend, ThePeakRateBudgetCountsWhatItSkipsAndSheds) {
   const int w = 160, h = 120;
   const std::vector<MovingSquare> squares = {{30, 30, 30, 120, 40}, {100, 60, 28, -60, 50}};
   const auto events = simulateSquares(squares, w, h, 0.3);
-  const double rate = static_cast<double>(events.size()) / ((events.back().t_ns - events.front().t_ns) * 1e-9);
+  const double rate =
+      static_cast<double>(events.size()) / ((events.back().t_ns - events.front().t_ns) * 1e-9);
   auto run = [&](double budget_mev_s) {
     FrontendConfig config;
     config.max_event_rate_mev_s = budget_mev_s;
@@ -280,7 +281,8 @@ TEST(Frontend, ASlowSceneGivesWeakCornersLongerToStartWhenTheTimeOutFollowsTheMo
 TEST(Frontend, AFastSceneDropsTrackersAsTimeAloneWhenTheTimeOutFollowsTheMotion) {
   auto ends = [](double scene_px) {
     FrontendStats stats;
-    const MeasurementCollector out = slowAndFastSquares(scene_px, FrontendConfig{}.init_timeout_max_ms, stats);
+    const MeasurementCollector out =
+        slowAndFastSquares(scene_px, FrontendConfig{}.init_timeout_max_ms, stats);
     std::vector<std::pair<int64_t, int64_t>> result;
     for (const FeatureEnd& e : out.ends)
       if (e.reason == DropReason::kInitTimeout) result.emplace_back(e.feature_id, e.t_ns);
@@ -391,7 +393,7 @@ TEST(Frontend, ActiveFeaturesOverTimeCoverTheSpanAndGiveTheirMedian) {
 
 TEST(FrontendStats, ActiveFeaturesQuantileIsTheCountReachedAtThatShareOfTime) {
   FrontendStats st;
-  EXPECT_EQ(st.activeFeaturesQuantile(0.5), 0);  // no time yet
+  EXPECT_EQ(st.activeFeaturesQuantile(0.5), 0);            // no time yet
   st.seconds_at_active_count = {1.0, 0.0, 0.0, 1.0, 2.0};  // 1 s at 0, 1 s at 3, 2 s at 4
   EXPECT_EQ(st.activeFeaturesQuantile(0.25), 0);
   EXPECT_EQ(st.activeFeaturesQuantile(0.5), 3);
