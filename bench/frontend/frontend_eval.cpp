@@ -216,11 +216,12 @@ int main(int argc, char** argv) try {
       worst = std::stoi(argv[++i]);
     } else if (a == "--tracks" && i + 1 < argc) {
       tracks_path = argv[++i];
-    } else if (a == "--help" || a == "-h" || a.rfind("--", 0) == 0) {
-      fmt::print(a.rfind("--help", 0) == 0 || a == "-h" ? stdout : stderr,
+    } else if (a == "-h" || a.rfind("--", 0) == 0) {  // --help, or a flag unknown or without its value
+      const bool help = a == "--help" || a == "-h";
+      fmt::print(help ? stdout : stderr,
                  "usage: frontend_eval [--yaml YAML] [--accel] [--tracks FILE] [--worst N] "
                  "(DIR | --sim SCENE:MOTION:SECONDS[:SEED] | --synthetic)...\n");
-      return a == "--help" || a == "-h" ? 0 : 2;
+      return help ? 0 : 2;
     } else {
       dirs.push_back(a);
     }

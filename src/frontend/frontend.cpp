@@ -579,12 +579,11 @@ void Frontend::housekeeping(int64_t t_ns, MeasurementSink& sink) {
       const int64_t age = t_ns - s.created_ns;
       if (age > init_timeout_ns_ &&
           (config_.init_timeout_scene_px <= 0 || age > init_timeout_max_ns_ ||
-           static_cast<double>(stats_.state_changes - s.scene_changes_at_last_change) >=
-               config_.init_timeout_scene_px * std::max(tracking, 1)))
+           sceneMovedSince(s.scene_changes_at_last_change, config_.init_timeout_scene_px, tracking)))
         drop(slot, DropReason::kInitTimeout, t_ns, sink);
     } else if (t_ns - s.last_change_ns > max_idle_ns_ &&
-               static_cast<double>(stats_.state_changes - s.scene_changes_at_last_change) >=
-                   config_.idle_min_scene_motion_px * stats_.active_features) {
+               sceneMovedSince(s.scene_changes_at_last_change, config_.idle_min_scene_motion_px,
+                               stats_.active_features)) {
       // Idle while the scene moved on: its corner is gone. A camera at rest (or reversing) moves no
       // tracker, and its features are kept.
       drop(slot, DropReason::kIdle, t_ns, sink);
@@ -601,6 +600,10 @@ void Frontend::housekeeping(int64_t t_ns, MeasurementSink& sink) {
     next_neighbour_check_ns_ = t_ns + neighbour_check_ns_;
     neighbourCheck(t_ns, sink);
   }
+}
+
+bool Frontend::sceneMovedSince(uint64_t changes_at, double px, int features) const {
+  return static_cast<double>(stats_.state_changes - changes_at) >= px * std::max(features, 1);
 }
 
 bool Frontend::positionAt(const Slot& s, int64_t t_ns, float& x, float& y) const {

@@ -231,11 +231,6 @@ TEST(Frontend, ACameraAtRestKeepsItsFeatures) {
   EXPECT_GT(idle_time_alone, idle_default);
 }
 
-// init_timeout_scene_px: a slow square's corners gather their first window over more than
-// init_timeout_ms while a fast square moves the scene on. Time alone drops them before their windows
-// fill (nothing is measured on the slow square); with a bound on the scene's motion larger than what
-// the fast square makes meanwhile they wait, start and are measured; init_timeout_max_ms still ends
-// the wait when it is shorter than what they need.
 /// A slow square (left, 9 px/s) and a fast one (right, 60 px/s) for 0.8 s, run through a frontend with
 /// the given start-up time-out settings (without finish(): what the time-out ended is what ended).
 MeasurementCollector slowAndFastSquares(double scene_px, double max_ms, FrontendStats& stats) {
@@ -252,6 +247,11 @@ MeasurementCollector slowAndFastSquares(double scene_px, double max_ms, Frontend
   return out;
 }
 
+// init_timeout_scene_px: a slow square's corners gather their first window over more than
+// init_timeout_ms while a fast square moves the scene on. Time alone drops them before their windows
+// fill (nothing is measured on the slow square); with a bound on the scene's motion larger than what
+// the fast square makes meanwhile they wait, start and are measured; init_timeout_max_ms still ends
+// the wait when it is shorter than what they need.
 TEST(Frontend, ASlowSceneGivesWeakCornersLongerToStartWhenTheTimeOutFollowsTheMotion) {
   struct Outcome {
     uint64_t timeouts = 0;

@@ -251,6 +251,9 @@ class Frontend {
   };
 
   void housekeeping(int64_t t_ns, MeasurementSink& sink);
+  /// Whether the scene moved at least `px` on average since the frontend's state-change count was
+  /// `changes_at`: that many state changes per feature of `features` (at least one).
+  bool sceneMovedSince(uint64_t changes_at, double px, int features) const;
   /// Adaptive detection (harris_threshold_floor): one step of the threshold toward more or fewer corners.
   void adaptDetectionThreshold(int64_t t_ns);
   void updateCommonRoll();
