@@ -25,6 +25,7 @@
 #include "asynevo/backend/start_trajectory.hpp"
 #include "asynevo/backend/marginalization.hpp"
 #include "asynevo/backend/triangulation.hpp"
+#include "asynevo/backend/window_solver.hpp"
 #include "asynevo/core/time.hpp"
 
 namespace asynevo::backend {
@@ -570,12 +571,16 @@ std::pair<int, double> SlidingWindowEstimator::solve(int max_iterations) {
   problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
   std::vector<double> residual_scratch;
-  for (const FactorEntry& f : factors) {
+  std::vector<FactorEntry> valid_factors;
+  for (FactorEntry& f : factors) {
     // A projection whose point is behind the camera at the start would stop the solve: leave it out.
     residual_scratch.resize(static_cast<std::size_t>(f.cost->num_residuals()));
     if (!f.cost->Evaluate(f.blocks.data(), residual_scratch.data(), nullptr)) continue;
-    problem.AddResidualBlock(f.cost.get(), f.loss.get(), f.blocks);
+    valid_factors.push_back(std::move(f));
   }
+  if (options_.config.window_solver == "builtin" && !options_.sparse_linear_solver)
+    return solveBuiltin(valid_factors, kinds, max_iterations, msSince(build_start));
+  for (const FactorEntry& f : valid_factors) problem.AddResidualBlock(f.cost.get(), f.loss.get(), f.blocks);
   for (const auto& [block, kind] : kinds) {
     if (kind == BlockKind::kPose && problem.HasParameterBlock(block)) problem.SetManifold(block, se3_manifold_.get());
   }
@@ -606,6 +611,31 @@ std::pair<int, double> SlidingWindowEstimator::solve(int max_iterations) {
   times.other_ms =
       std::max(0.0, summary.total_time_in_seconds * 1e3 - times.residuals_ms - times.jacobians_ms - times.linear_ms);
   return {static_cast<int>(summary.iterations.size()), summary.final_cost};
+}
+
+std::pair<int, double> SlidingWindowEstimator::solveBuiltin(const std::vector<FactorEntry>& factors,
+                                                            const std::map<double*, BlockKind>& kinds,
+                                                            int max_iterations, double build_ms) {
+  std::set<const double*> knot_blocks, constant;
+  for (const auto& [t, knot] : trajectory_.knots()) {
+    knot_blocks.insert({knot.pose.data(), knot.velocity.data()});
+    if (isFrozen(knot)) constant.insert({knot.pose.data(), knot.velocity.data()});
+  }
+  std::set<const double*> landmarks;
+  for (const auto& [block, kind] : kinds)
+    if (!knot_blocks.count(block)) landmarks.insert(block);
+  WindowSolverOptions solver_options;
+  solver_options.max_iterations = max_iterations;
+  if (options_.real_time) solver_options.max_time_s = options_.config.max_solver_time_s;
+  const WindowSolverSummary summary =
+      solveWindow(factors, kinds, landmarks, constant, *se3_manifold_, solver_options);
+  SolveTimes& times = last_solve_times_;
+  times.build_ms = build_ms;
+  times.residuals_ms = summary.residuals_ms;
+  times.jacobians_ms = summary.jacobians_ms;
+  times.linear_ms = summary.linear_ms;
+  times.other_ms = std::max(0.0, summary.total_ms - times.residuals_ms - times.jacobians_ms - times.linear_ms);
+  return {summary.iterations, summary.final_cost};
 }
 
 void SlidingWindowEstimator::marginalizeDynamic() {

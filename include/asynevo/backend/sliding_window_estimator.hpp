@@ -77,6 +77,9 @@ class SlidingWindowEstimator : public Estimator {
                     std::vector<ProjectionSource>* projection_sources);
   /// One Levenberg–Marquardt solve of the window; returns iterations and final cost.
   std::pair<int, double> solve(int max_iterations);
+  /// solve() by the builtin solver (backend.window_solver: builtin) over factors valid at the start.
+  std::pair<int, double> solveBuiltin(const std::vector<FactorEntry>& factors,
+                                      const std::map<double*, BlockKind>& kinds, int max_iterations, double build_ms);
   /// Where the latest solve() spent its time (UpdateRecord's solve_* parts).
   struct SolveTimes {
     double build_ms = 0, residuals_ms = 0, jacobians_ms = 0, linear_ms = 0, other_ms = 0;

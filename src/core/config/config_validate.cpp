@@ -103,6 +103,9 @@ void BackendConfig::validate() const {
   requireRange("backend.track_measurement_dt_ms", track_measurement_dt_ms, 0.0, 1e4);
   requireRange("backend.max_solver_time_s", max_solver_time_s, 1e-4, 1e4);
   requireRange("backend.solver_threads", solver_threads, 1, 64);
+  if (window_solver != "ceres" && window_solver != "builtin")
+    throw ConfigError(
+        fmt::format("configuration value backend.window_solver = '{}' is not one of ceres, builtin", window_solver));
   requireRange("backend.init_min_parallax_px", init_min_parallax_px, 0.0, 1e4);
   requireRange("backend.init_min_features", init_min_features, 8, 100000);
   requireRange("backend.init_min_inliers", init_min_inliers, 8, 100000);

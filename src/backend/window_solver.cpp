@@ -1,0 +1,505 @@
+#include "asynevo/backend/window_solver.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace asynevo::backend {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using CameraLandmarkBlock = Eigen::Matrix<double, 6, 3>;  ///< ∂²/∂camera∂landmark; rows beyond the tangent are 0
+
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+constexpr double kMinDiagonal = 1e-6;  // Ceres's min_lm_diagonal / max_lm_diagonal
+constexpr double kMaxDiagonal = 1e32;
+constexpr int kMaxCameraTangent = 6;
+
+double clampDiagonal(double d) { return std::clamp(d, kMinDiagonal, kMaxDiagonal); }
+
+struct Variable {
+  double* block = nullptr;
+  BlockKind kind = BlockKind::kEuclidean;
+  int ambient = 0;
+  int tangent = 0;
+  bool constant = false;
+  int landmark = -1;  ///< index into the eliminated landmarks
+  int offset = -1;    ///< position in the reduced system (camera variables)
+};
+
+struct Factor {
+  const FactorEntry* entry = nullptr;
+  int residuals = 0;
+  int residual_offset = 0;
+  std::vector<int> variables;        ///< per block
+  std::vector<int> jacobian_offset;  ///< per block, into the Jacobian buffer (m × ambient, row-major); −1: constant
+  int landmark = -1;                 ///< the eliminated landmark it touches (at most one), or −1
+  int landmark_block = -1;
+  std::vector<int> slots;            ///< per block: the landmark's slot of that camera block, or −1
+  bool fixed_size = false;           ///< 2 residuals, four camera blocks of tangent 6 (the GP projection)
+};
+
+struct Landmark {
+  int variable = -1;
+  std::vector<int> slot_variables;  ///< camera variables coupled to it, in first-seen order
+  Eigen::Matrix3d V = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
+  std::vector<CameraLandmarkBlock> W;
+  Eigen::Matrix3d V_inv_damped = Eigen::Matrix3d::Zero();  ///< of the latest step
+};
+
+class ArrowProblem {
+ public:
+  ArrowProblem(const std::vector<FactorEntry>& entries, const std::map<double*, BlockKind>& kinds,
+               const std::set<const double*>& landmarks, const std::set<const double*>& constant,
+               const ceres::Manifold& manifold)
+      : manifold_(manifold) {
+    std::unordered_map<const double*, int> index;
+    auto variableOf = [&](double* block, int ambient) {
+      const auto found = index.find(block);
+      if (found != index.end()) return found->second;
+      const auto kind = kinds.find(block);
+      if (kind == kinds.end()) throw std::logic_error("solveWindow: a factor block has no registered kind");
+      Variable v;
+      v.block = block;
+      v.kind = kind->second;
+      v.ambient = ambient;
+      v.tangent = tangentSize(v.kind, ambient);
+      v.constant = constant.count(block) > 0;
+      variables_.push_back(v);
+      index.emplace(block, static_cast<int>(variables_.size()) - 1);
+      return static_cast<int>(variables_.size()) - 1;
+    };
+    // A landmark is eliminated unless a factor touches it together with another landmark (the
+    // marginalization prior over active landmarks): those stay in the dense system.
+    std::set<int> coupled;
+    factors_.reserve(entries.size());
+    int residual_offset = 0;
+    int jacobian_size = 0;
+    for (const FactorEntry& e : entries) {
+      Factor f;
+      f.entry = &e;
+      f.residuals = e.cost->num_residuals();
+      f.residual_offset = residual_offset;
+      residual_offset += f.residuals;
+      const auto& sizes = e.cost->parameter_block_sizes();
+      std::vector<int> landmark_vars;
+      for (std::size_t b = 0; b < e.blocks.size(); ++b) {
+        const int v = variableOf(e.blocks[b], sizes[b]);
+        f.variables.push_back(v);
+        if (variables_[v].constant) {
+          f.jacobian_offset.push_back(-1);
+        } else {
+          f.jacobian_offset.push_back(jacobian_size);
+          jacobian_size += f.residuals * sizes[b];
+        }
+        if (!variables_[v].constant && landmarks.count(e.blocks[b])) landmark_vars.push_back(v);
+      }
+      if (landmark_vars.size() > 1) coupled.insert(landmark_vars.begin(), landmark_vars.end());
+      factors_.push_back(std::move(f));
+    }
+    residuals_.resize(residual_offset);
+    jacobians_.resize(jacobian_size);
+
+    int offset = 0;
+    for (int v = 0; v < static_cast<int>(variables_.size()); ++v) {
+      Variable& var = variables_[v];
+      if (var.constant) continue;
+      if (landmarks.count(var.block) && !coupled.count(v) && var.tangent == 3) {
+        var.landmark = static_cast<int>(landmarks_.size());
+        landmarks_.emplace_back();
+        landmarks_.back().variable = v;
+      } else {
+        if (var.tangent > kMaxCameraTangent) throw std::logic_error("solveWindow: a knot block wider than 6");
+        var.offset = offset;
+        offset += var.tangent;
+      }
+    }
+    reduced_dims_ = offset;
+
+    for (Factor& f : factors_) {
+      f.slots.assign(f.variables.size(), -1);
+      int camera_blocks = 0;
+      bool all_six = true;
+      for (std::size_t b = 0; b < f.variables.size(); ++b) {
+        const Variable& var = variables_[f.variables[b]];
+        if (var.constant) continue;
+        if (var.landmark >= 0) {
+          f.landmark = var.landmark;
+          f.landmark_block = static_cast<int>(b);
+        } else {
+          ++camera_blocks;
+          all_six = all_six && var.tangent == 6;
+        }
+      }
+      f.fixed_size = f.residuals == 2 && camera_blocks == 4 && all_six && f.variables.size() == 5 &&
+                     f.landmark_block == 4;
+      if (f.landmark < 0) continue;
+      Landmark& lm = landmarks_[f.landmark];
+      for (std::size_t b = 0; b < f.variables.size(); ++b) {
+        const Variable& var = variables_[f.variables[b]];
+        if (var.constant || var.landmark >= 0) continue;
+        const auto found = std::find(lm.slot_variables.begin(), lm.slot_variables.end(), f.variables[b]);
+        f.slots[b] = static_cast<int>(found - lm.slot_variables.begin());
+        if (found == lm.slot_variables.end()) lm.slot_variables.push_back(f.variables[b]);
+      }
+    }
+    for (Landmark& lm : landmarks_) lm.W.resize(lm.slot_variables.size());
+  }
+
+  int reducedDims() const { return reduced_dims_; }
+  int eliminatedLandmarks() const { return static_cast<int>(landmarks_.size()); }
+
+  /// Σ ½ρ(|r|²) at the current values; with Jacobians, the robust-corrected residuals and Jacobians are
+  /// kept for buildNormalEquations(). False when a factor refuses to evaluate or returns a non-finite value.
+  bool evaluate(bool with_jacobians, double& cost) {
+    cost = 0.0;
+    std::vector<double*> jacobian_ptrs;
+    for (const Factor& f : factors_) {
+      const std::size_t n_blocks = f.variables.size();
+      jacobian_ptrs.assign(n_blocks, nullptr);
+      if (with_jacobians) {
+        for (std::size_t b = 0; b < n_blocks; ++b)
+          if (f.jacobian_offset[b] >= 0) jacobian_ptrs[b] = jacobians_.data() + f.jacobian_offset[b];
+      }
+      double* r = residuals_.data() + f.residual_offset;
+      if (!f.entry->cost->Evaluate(f.entry->blocks.data(), r, with_jacobians ? jacobian_ptrs.data() : nullptr))
+        return false;
+      Eigen::Map<Eigen::VectorXd> res(r, f.residuals);
+      if (!res.allFinite()) return false;
+      const double s = res.squaredNorm();
+      if (!f.entry->loss) {
+        cost += 0.5 * s;
+        continue;
+      }
+      double rho[3];
+      f.entry->loss->Evaluate(s, rho);
+      cost += 0.5 * rho[0];
+      if (!with_jacobians) continue;
+      // Triggs correction, as linearize() in factor_graph.cpp.
+      const double sqrt_rho1 = std::sqrt(std::max(rho[1], 0.0));
+      double alpha = 0.0;
+      if (s > 0.0 && rho[2] > 0.0) alpha = 1.0 - std::sqrt(1.0 + 2.0 * s * rho[2] / rho[1]);
+      const auto& sizes = f.entry->cost->parameter_block_sizes();
+      for (std::size_t b = 0; b < n_blocks; ++b) {
+        if (!jacobian_ptrs[b]) continue;
+        Eigen::Map<RowMatrix> J(jacobian_ptrs[b], f.residuals, sizes[b]);
+        if (alpha != 0.0) J -= (alpha / s) * res * (res.transpose() * J);
+        J *= sqrt_rho1;
+      }
+      res *= sqrt_rho1 / (1.0 - alpha);
+    }
+    return true;
+  }
+
+  /// H (reduced part), g and the landmark blocks from the latest evaluate(true).
+  void buildNormalEquations() {
+    H_.setZero(reduced_dims_, reduced_dims_);
+    g_.setZero(reduced_dims_);
+    for (Landmark& lm : landmarks_) {
+      lm.V.setZero();
+      lm.g.setZero();
+      for (CameraLandmarkBlock& w : lm.W) w.setZero();
+    }
+    for (const Factor& f : factors_) {
+      const auto& sizes = f.entry->cost->parameter_block_sizes();
+      const Eigen::Map<const Eigen::VectorXd> r(residuals_.data() + f.residual_offset, f.residuals);
+      auto jacobian = [&](std::size_t b) {
+        const Variable& var = variables_[f.variables[b]];
+        return Eigen::Map<const RowMatrix>(jacobians_.data() + f.jacobian_offset[b], f.residuals, sizes[b])
+            .leftCols(var.tangent);
+      };
+      if (f.fixed_size) {
+        accumulateProjection(f);
+        continue;
+      }
+      // The camera blocks side by side (m × K): one product for all their pairs.
+      int width = 0;
+      for (const int v : f.variables) {
+        const Variable& var = variables_[v];
+        if (!var.constant && var.landmark < 0) width += var.tangent;
+      }
+      if (width > 0) {
+        camera_jacobian_.resize(f.residuals, width);
+        int col = 0;
+        for (std::size_t i = 0; i < f.variables.size(); ++i) {
+          const Variable& vi = variables_[f.variables[i]];
+          if (vi.constant || vi.landmark >= 0) continue;
+          camera_jacobian_.middleCols(col, vi.tangent) = jacobian(i);
+          col += vi.tangent;
+        }
+        camera_information_.noalias() = camera_jacobian_.transpose() * camera_jacobian_;
+        camera_gradient_.noalias() = camera_jacobian_.transpose() * r;
+        int ci = 0;
+        for (std::size_t i = 0; i < f.variables.size(); ++i) {
+          const Variable& vi = variables_[f.variables[i]];
+          if (vi.constant || vi.landmark >= 0) continue;
+          g_.segment(vi.offset, vi.tangent) += camera_gradient_.segment(ci, vi.tangent);
+          int cj = 0;
+          for (std::size_t j = 0; j < f.variables.size(); ++j) {
+            const Variable& vj = variables_[f.variables[j]];
+            if (vj.constant || vj.landmark >= 0) continue;
+            if (vj.offset <= vi.offset)
+              H_.block(vi.offset, vj.offset, vi.tangent, vj.tangent) +=
+                  camera_information_.block(ci, cj, vi.tangent, vj.tangent);
+            cj += vj.tangent;
+          }
+          ci += vi.tangent;
+        }
+      }
+      if (f.landmark < 0) continue;
+      Landmark& lm = landmarks_[f.landmark];
+      const auto Jl = jacobian(static_cast<std::size_t>(f.landmark_block));
+      lm.V.noalias() += Jl.transpose() * Jl;
+      lm.g.noalias() += Jl.transpose() * r;
+      for (std::size_t i = 0; i < f.variables.size(); ++i) {
+        if (f.slots[i] < 0) continue;
+        const Variable& vi = variables_[f.variables[i]];
+        lm.W[f.slots[i]].topRows(vi.tangent).noalias() += jacobian(i).transpose() * Jl;
+      }
+    }
+    // The projections fill the lower triangle only (the Cholesky factorization reads no more).
+    H_.triangularView<Eigen::StrictlyUpper>() = H_.transpose();
+  }
+
+  /// The step δ of (H + μD)δ = −g, D = clamped diag(H), by eliminating the landmarks; false when the
+  /// reduced system is not positive definite. Also returns the model cost decrease ½μδᵀDδ − ½gᵀδ.
+  bool solveStep(double mu, double& model_decrease) {
+    S_ = H_;
+    rhs_ = g_;
+    double d_delta = 0.0;  // δᵀDδ, accumulated below
+    for (int i = 0; i < reduced_dims_; ++i) S_(i, i) += mu * clampDiagonal(H_(i, i));
+    for (Landmark& lm : landmarks_) {
+      Eigen::Matrix3d V = lm.V;
+      for (int k = 0; k < 3; ++k) V(k, k) += mu * clampDiagonal(lm.V(k, k));
+      const Eigen::LLT<Eigen::Matrix3d> llt(V);
+      if (llt.info() != Eigen::Success) return false;
+      lm.V_inv_damped = llt.solve(Eigen::Matrix3d::Identity());
+      // S −= W V⁻¹ Wᵀ (lower blocks) and rhs −= W V⁻¹ g, slot by slot.
+      const int n_slots = static_cast<int>(lm.W.size());
+      WV_.resize(static_cast<std::size_t>(n_slots));
+      for (int a = 0; a < n_slots; ++a) WV_[a].noalias() = lm.W[a].lazyProduct(lm.V_inv_damped);
+      for (int a = 0; a < n_slots; ++a) {
+        const Variable& va = variables_[lm.slot_variables[a]];
+        rhs_.segment(va.offset, va.tangent).noalias() -= (WV_[a].lazyProduct(lm.g)).topRows(va.tangent);
+        for (int b = 0; b < n_slots; ++b) {
+          const Variable& vb = variables_[lm.slot_variables[b]];
+          if (vb.offset > va.offset) continue;
+          if (va.tangent == 6 && vb.tangent == 6) {
+            S_.block<6, 6>(va.offset, vb.offset).noalias() -= WV_[a].lazyProduct(lm.W[b].transpose());
+          } else {
+            const Eigen::Matrix<double, 6, 6> block = WV_[a].lazyProduct(lm.W[b].transpose());
+            S_.block(va.offset, vb.offset, va.tangent, vb.tangent) -= block.topLeftCorner(va.tangent, vb.tangent);
+          }
+        }
+      }
+    }
+    const Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> llt(S_);
+    if (llt.info() != Eigen::Success) return false;
+    delta_c_ = -llt.solve(rhs_);
+    if (!delta_c_.allFinite()) return false;
+    double g_delta = g_.dot(delta_c_);
+    for (int i = 0; i < reduced_dims_; ++i) d_delta += clampDiagonal(H_(i, i)) * delta_c_(i) * delta_c_(i);
+    delta_l_.resize(landmarks_.size());
+    for (std::size_t l = 0; l < landmarks_.size(); ++l) {
+      const Landmark& lm = landmarks_[l];
+      Eigen::Vector3d b = -lm.g;
+      for (std::size_t a = 0; a < lm.W.size(); ++a) {
+        const Variable& va = variables_[lm.slot_variables[a]];
+        b.noalias() -= lm.W[a].topRows(va.tangent).transpose() * delta_c_.segment(va.offset, va.tangent);
+      }
+      delta_l_[l] = lm.V_inv_damped * b;
+      if (!delta_l_[l].allFinite()) return false;
+      g_delta += lm.g.dot(delta_l_[l]);
+      for (int k = 0; k < 3; ++k) d_delta += clampDiagonal(lm.V(k, k)) * delta_l_[l](k) * delta_l_[l](k);
+    }
+    model_decrease = 0.5 * mu * d_delta - 0.5 * g_delta;
+    return true;
+  }
+
+  double stepNorm() const {
+    double sq = delta_c_.squaredNorm();
+    for (const Eigen::Vector3d& d : delta_l_) sq += d.squaredNorm();
+    return std::sqrt(sq);
+  }
+
+  double gradientMaxNorm() const {
+    double m = g_.size() ? g_.cwiseAbs().maxCoeff() : 0.0;
+    for (const Landmark& lm : landmarks_) m = std::max(m, lm.g.cwiseAbs().maxCoeff());
+    return m;
+  }
+
+  double parameterNorm() const {
+    double sq = 0.0;
+    for (const Variable& v : variables_)
+      if (!v.constant) sq += Eigen::Map<const Eigen::VectorXd>(v.block, v.ambient).squaredNorm();
+    return std::sqrt(sq);
+  }
+
+  void saveValues() {
+    saved_.clear();
+    for (const Variable& v : variables_)
+      if (!v.constant) saved_.insert(saved_.end(), v.block, v.block + v.ambient);
+  }
+
+  void restoreValues() {
+    std::size_t k = 0;
+    for (const Variable& v : variables_) {
+      if (v.constant) continue;
+      std::copy(saved_.begin() + static_cast<std::ptrdiff_t>(k), saved_.begin() + static_cast<std::ptrdiff_t>(k + v.ambient),
+                v.block);
+      k += static_cast<std::size_t>(v.ambient);
+    }
+  }
+
+  /// x ← x ⊞ δ (after saveValues()).
+  void applyStep() {
+    double moved[7];
+    for (const Variable& v : variables_) {
+      if (v.constant) continue;
+      const double* d = v.landmark >= 0 ? delta_l_[v.landmark].data() : delta_c_.data() + v.offset;
+      if (v.kind == BlockKind::kPose) {
+        manifold_.Plus(v.block, d, moved);
+        std::copy(moved, moved + v.ambient, v.block);
+      } else {
+        for (int k = 0; k < v.ambient; ++k) v.block[k] += d[k];
+      }
+    }
+  }
+
+ private:
+  /// The GP projection's 2 × (4·6 + 3) Jacobian with fixed sizes; coefficient-wise products (the inner
+  /// dimension is 2: a blocked matrix product would spend its time packing). Lower blocks only.
+  void accumulateProjection(const Factor& f) {
+    Eigen::Matrix<double, 2, 24> Jc;
+    for (int b = 0; b < 4; ++b) {
+      const Eigen::Map<const RowMatrix> J(jacobians_.data() + f.jacobian_offset[b], 2,
+                                          variables_[f.variables[b]].ambient);
+      Jc.middleCols<6>(6 * b) = J.leftCols<6>();
+    }
+    const Eigen::Map<const Eigen::Vector2d> r(residuals_.data() + f.residual_offset);
+    const Eigen::Map<const Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> Jl(jacobians_.data() + f.jacobian_offset[4]);
+    Landmark& lm = landmarks_[f.landmark];
+    lm.V.noalias() += Jl.transpose().lazyProduct(Jl);
+    lm.g.noalias() += Jl.transpose().lazyProduct(r);
+    for (int i = 0; i < 4; ++i) {
+      const int oi = variables_[f.variables[i]].offset;
+      const auto Ji = Jc.middleCols<6>(6 * i);
+      g_.segment<6>(oi).noalias() += Ji.transpose().lazyProduct(r);
+      lm.W[f.slots[i]].noalias() += Ji.transpose().lazyProduct(Jl);
+      for (int j = 0; j < 4; ++j) {
+        const int oj = variables_[f.variables[j]].offset;
+        if (oj > oi) continue;
+        H_.block<6, 6>(oi, oj).noalias() += Ji.transpose().lazyProduct(Jc.middleCols<6>(6 * j));
+      }
+    }
+  }
+
+  const ceres::Manifold& manifold_;
+  std::vector<Variable> variables_;
+  std::vector<Factor> factors_;
+  std::vector<Landmark> landmarks_;
+  int reduced_dims_ = 0;
+  std::vector<double> residuals_, jacobians_, saved_;
+  Eigen::MatrixXd H_, S_;
+  Eigen::VectorXd g_, rhs_, delta_c_;
+  std::vector<Eigen::Vector3d> delta_l_;
+  std::vector<CameraLandmarkBlock> WV_;  ///< scratch: W V⁻¹ of one landmark
+  Eigen::MatrixXd camera_jacobian_, camera_information_;  ///< scratch of a generic factor
+  Eigen::VectorXd camera_gradient_;
+};
+
+}  // namespace
+
+WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const std::map<double*, BlockKind>& kinds,
+                                const std::set<const double*>& landmarks, const std::set<const double*>& constant,
+                                const ceres::Manifold& pose_manifold, const WindowSolverOptions& options) {
+  const auto start = Clock::now();
+  WindowSolverSummary summary;
+  ArrowProblem problem(factors, kinds, landmarks, constant, pose_manifold);
+  summary.eliminated_landmarks = problem.eliminatedLandmarks();
+  summary.reduced_dims = problem.reducedDims();
+
+  auto timed = [](double& total_ms, auto&& fn) {
+    const auto t = Clock::now();
+    const auto result = fn();
+    total_ms += msSince(t);
+    return result;
+  };
+  double cost = 0.0;
+  if (!timed(summary.jacobians_ms, [&] { return problem.evaluate(true, cost); })) {
+    summary.valid_start = false;
+    summary.total_ms = msSince(start);
+    return summary;
+  }
+  summary.initial_cost = summary.final_cost = cost;
+  summary.iterations = 1;
+  timed(summary.linear_ms, [&] {
+    problem.buildNormalEquations();
+    return 0;
+  });
+  double radius = options.initial_radius;
+  double decrease_factor = 2.0;
+  bool done = problem.gradientMaxNorm() <= options.gradient_tolerance;
+  for (int iteration = 1; !done && iteration <= options.max_iterations; ++iteration) {
+    if (options.max_time_s > 0.0 && msSince(start) >= 1e3 * options.max_time_s) break;
+    summary.iterations = iteration + 1;
+    double model_decrease = 0.0;
+    const bool solved = timed(summary.linear_ms, [&] { return problem.solveStep(1.0 / radius, model_decrease); });
+    if (!solved || !(model_decrease > 0.0)) {
+      radius /= decrease_factor;
+      decrease_factor *= 2.0;
+      if (radius < 1e-32) break;
+      continue;
+    }
+    if (problem.stepNorm() <= options.parameter_tolerance * (problem.parameterNorm() + options.parameter_tolerance))
+      break;
+    problem.saveValues();
+    problem.applyStep();
+    double candidate = 0.0;
+    const bool valid = timed(summary.residuals_ms, [&] { return problem.evaluate(false, candidate); });
+    if (valid && std::abs(cost - candidate) <= options.function_tolerance * cost) {
+      problem.restoreValues();  // as Ceres: the function tolerance ends the solve before the step is taken
+      break;
+    }
+    const double rho = valid ? (cost - candidate) / model_decrease : -1.0;
+    if (!valid || rho <= options.min_relative_decrease) {
+      problem.restoreValues();
+      radius /= decrease_factor;
+      decrease_factor *= 2.0;
+      if (radius < 1e-32) break;
+      continue;
+    }
+    ++summary.accepted_steps;
+    radius = std::min(1e16, radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3)));
+    decrease_factor = 2.0;
+    // Re-linearize at the new point (the values that gave `candidate`: evaluation is deterministic).
+    double relinearized = 0.0;
+    if (!timed(summary.jacobians_ms, [&] { return problem.evaluate(true, relinearized); })) {
+      problem.restoreValues();  // cannot happen for a deterministic factor; stay at the last good point
+      timed(summary.jacobians_ms, [&] { return problem.evaluate(true, relinearized); });
+      break;
+    }
+    cost = relinearized;
+    summary.final_cost = cost;
+    timed(summary.linear_ms, [&] {
+      problem.buildNormalEquations();
+      return 0;
+    });
+    done = problem.gradientMaxNorm() <= options.gradient_tolerance;
+  }
+  summary.total_ms = msSince(start);
+  return summary;
+}
+
+}  // namespace asynevo::backend

@@ -1,0 +1,251 @@
+// The builtin window solver (backend/window_solver.hpp) against Ceres on the same GP bundle-adjustment
+// windows: the same minimum, landmarks coupled by a prior kept in the dense system, constant blocks
+// left alone, steps into a point behind the camera rejected.
+
+#include <ceres/ceres.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <memory>
+
+#include "asynevo/backend/factors/linear_prior_factor.hpp"
+#include "asynevo/backend/factors/state_prior_factor.hpp"
+#include "asynevo/backend/window_solver.hpp"
+#include "testing/gp_ba_sim.hpp"
+
+namespace asynevo::backend {
+namespace {
+
+using testing::GpBaConfig;
+using testing::GpBaScenario;
+using testing::GpBaState;
+
+/// The scenario's factors over the blocks of `x`, as the estimator lists them (WNOA priors, then
+/// projections with a Huber loss), with every block's kind.
+struct Window {
+  std::vector<FactorEntry> factors;
+  std::map<double*, BlockKind> kinds;
+  std::set<const double*> landmarks;
+};
+
+Window makeWindow(const GpBaScenario& s, GpBaState& x, double huber) {
+  Window w;
+  const lie::Mat6 Q_c = s.config.q_c * lie::Mat6::Identity();
+  for (std::size_t k = 0; k < x.poses.size(); ++k) {
+    w.kinds[x.poses[k].data()] = BlockKind::kPose;
+    w.kinds[x.velocities[k].data()] = BlockKind::kEuclidean;
+  }
+  for (std::size_t k = 0; k + 1 < x.poses.size(); ++k) {
+    w.factors.push_back({std::make_shared<WnoaPriorFactor>(s.knot_times_ns[k], s.knot_times_ns[k + 1], Q_c), nullptr,
+                         {x.poses[k].data(), x.velocities[k].data(), x.poses[k + 1].data(), x.velocities[k + 1].data()}});
+  }
+  auto loss = std::make_shared<ceres::HuberLoss>(huber);
+  for (const testing::GpBaMeasurement& m : s.measurements) {
+    const int k = m.knot;
+    double* p = x.landmarks[m.landmark].data();
+    w.kinds[p] = BlockKind::kEuclidean;
+    w.landmarks.insert(p);
+    w.factors.push_back({std::make_shared<GpProjectionFactor>(m.z, m.t_ns, s.knot_times_ns[k], s.knot_times_ns[k + 1],
+                                                              s.config.sigma),
+                         loss,
+                         {x.poses[k].data(), x.velocities[k].data(), x.poses[k + 1].data(), x.velocities[k + 1].data(), p}});
+  }
+  return w;
+}
+
+double solveWithCeres(const Window& w, const std::set<const double*>& constant, int max_iterations) {
+  ceres::Problem::Options po;
+  po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(po);
+  SE3Manifold manifold;
+  for (const FactorEntry& f : w.factors) problem.AddResidualBlock(f.cost.get(), f.loss.get(), f.blocks);
+  for (const auto& [block, kind] : w.kinds)
+    if (kind == BlockKind::kPose && problem.HasParameterBlock(block)) problem.SetManifold(block, &manifold);
+  for (const double* b : constant) problem.SetParameterBlockConstant(const_cast<double*>(b));
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_SCHUR;
+  options.max_num_iterations = max_iterations;
+  options.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  return summary.final_cost;
+}
+
+double maxPoseDifference(const GpBaState& a, const GpBaState& b) {
+  double d = 0.0;
+  for (std::size_t k = 0; k < a.poses.size(); ++k)
+    d = std::max(d, lie::se3::boxMinus(poseFromBlock(a.poses[k].data()), poseFromBlock(b.poses[k].data()))
+                        .cwiseAbs()
+                        .maxCoeff());
+  return d;
+}
+
+class WindowSolverTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    GpBaConfig config;
+    config.knots = 12;
+    config.landmarks = 60;
+    config.measurements_per_landmark = 12;
+    scenario_ = testing::makeGpBaScenario(config);
+    start_ = testing::perturbedState(scenario_, 5);
+    const GpBaState truth = testing::stateFromTruth(scenario_);
+    start_.poses.front() = truth.poses.front();  // gauge and scale: first and last pose held
+    start_.poses.back() = truth.poses.back();
+  }
+  std::set<const double*> constantOf(const GpBaState& x) const {
+    return {x.poses.front().data(), x.poses.back().data()};
+  }
+
+  GpBaScenario scenario_;
+  GpBaState start_;
+  SE3Manifold manifold_;
+};
+
+TEST_F(WindowSolverTest, ReachesTheMinimumCeresReaches) {
+  GpBaState x_ceres = start_;
+  GpBaState x_own = start_;
+  const Window w_ceres = makeWindow(scenario_, x_ceres, 2.0);
+  const Window w_own = makeWindow(scenario_, x_own, 2.0);
+  const double ceres_cost = solveWithCeres(w_ceres, constantOf(x_ceres), 50);
+  WindowSolverOptions options;
+  options.max_iterations = 50;
+  const WindowSolverSummary summary =
+      solveWindow(w_own.factors, w_own.kinds, w_own.landmarks, constantOf(x_own), manifold_, options);
+  ASSERT_TRUE(summary.valid_start);
+  EXPECT_EQ(summary.eliminated_landmarks, 60);
+  EXPECT_EQ(summary.reduced_dims, 12 * 12 - 2 * 6);  // knots' poses and twists, two poses constant
+  EXPECT_GT(summary.initial_cost, 1e3 * summary.final_cost);
+  EXPECT_NEAR(summary.final_cost, ceres_cost, 1e-6 * ceres_cost + 1e-9);
+  EXPECT_LT(maxPoseDifference(x_own, x_ceres), 1e-6);
+  // Close to the truth (the floor is the truth not being exactly WNOA).
+  EXPECT_LT(testing::positionRmse(scenario_, x_own), 5e-3);
+}
+
+TEST_F(WindowSolverTest, FewIterationsDescendLikeCeres) {
+  // The estimator runs 5 iterations per window: both solvers take the same kind of steps.
+  GpBaState x_ceres = start_;
+  GpBaState x_own = start_;
+  const Window w_ceres = makeWindow(scenario_, x_ceres, 2.0);
+  const Window w_own = makeWindow(scenario_, x_own, 2.0);
+  const double ceres_cost = solveWithCeres(w_ceres, constantOf(x_ceres), 3);
+  WindowSolverOptions options;
+  options.max_iterations = 3;
+  const WindowSolverSummary summary =
+      solveWindow(w_own.factors, w_own.kinds, w_own.landmarks, constantOf(x_own), manifold_, options);
+  EXPECT_LE(summary.iterations, 4);
+  EXPECT_LT(summary.final_cost, 0.1 * summary.initial_cost);
+  EXPECT_NEAR(summary.final_cost, ceres_cost, 0.05 * ceres_cost);
+}
+
+TEST_F(WindowSolverTest, ConstantBlocksDoNotMove) {
+  GpBaState x = start_;
+  const Window w = makeWindow(scenario_, x, 2.0);
+  std::set<const double*> constant = constantOf(x);
+  constant.insert(x.velocities[3].data());
+  constant.insert(x.landmarks[7].data());
+  const auto velocity = x.velocities[3];
+  const auto landmark = x.landmarks[7];
+  const auto first = x.poses.front();
+  WindowSolverOptions options;
+  options.max_iterations = 10;
+  const WindowSolverSummary summary = solveWindow(w.factors, w.kinds, w.landmarks, constant, manifold_, options);
+  EXPECT_EQ(summary.eliminated_landmarks, 59);
+  EXPECT_LT(summary.final_cost, summary.initial_cost);
+  EXPECT_EQ(x.velocities[3], velocity);
+  EXPECT_EQ(x.landmarks[7], landmark);
+  EXPECT_EQ(x.poses.front(), first);
+  EXPECT_NE(x.landmarks[8], start_.landmarks[8]);
+}
+
+TEST_F(WindowSolverTest, LandmarksCoupledByAPriorStayInTheDenseSystem) {
+  // A linear prior on two landmarks (as the marginalization prior's blanket can hold): neither can be
+  // eliminated alone; the solution still matches Ceres.
+  GpBaState x_ceres = start_;
+  GpBaState x_own = start_;
+  Window w_ceres = makeWindow(scenario_, x_ceres, 2.0);
+  Window w_own = makeWindow(scenario_, x_own, 2.0);
+  auto addPrior = [&](Window& w, GpBaState& x) {
+    std::vector<LinearPriorBlock> blocks(2);
+    blocks[0].linearization_point.assign(x.landmarks[0].begin(), x.landmarks[0].end());
+    blocks[1].linearization_point.assign(x.landmarks[1].begin(), x.landmarks[1].end());
+    Eigen::MatrixXd J = 10.0 * Eigen::MatrixXd::Identity(6, 6);
+    J.block<3, 3>(0, 3) = -5.0 * Eigen::Matrix3d::Identity();
+    w.factors.push_back({std::make_shared<LinearPriorFactor>(std::move(blocks), J, Eigen::VectorXd::Constant(6, 0.1)),
+                         nullptr,
+                         {x.landmarks[0].data(), x.landmarks[1].data()}});
+  };
+  addPrior(w_ceres, x_ceres);
+  addPrior(w_own, x_own);
+  const double ceres_cost = solveWithCeres(w_ceres, constantOf(x_ceres), 50);
+  WindowSolverOptions options;
+  options.max_iterations = 50;
+  const WindowSolverSummary summary =
+      solveWindow(w_own.factors, w_own.kinds, w_own.landmarks, constantOf(x_own), manifold_, options);
+  EXPECT_EQ(summary.eliminated_landmarks, 58);
+  EXPECT_EQ(summary.reduced_dims, 12 * 12 - 2 * 6 + 2 * 3);
+  EXPECT_NEAR(summary.final_cost, ceres_cost, 1e-6 * ceres_cost + 1e-9);
+  EXPECT_LT(maxPoseDifference(x_own, x_ceres), 1e-6);
+  for (int l = 0; l < 2; ++l)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(x_own.landmarks[l][c], x_ceres.landmarks[l][c], 1e-6);
+}
+
+TEST_F(WindowSolverTest, AStartBehindTheCameraIsReportedAndNothingMoves) {
+  GpBaState x = start_;
+  const Window w = makeWindow(scenario_, x, 2.0);
+  // Landmark 0 moved behind every camera that sees it: its projections refuse to evaluate.
+  const auto& m = *std::find_if(scenario_.measurements.begin(), scenario_.measurements.end(),
+                                [](const testing::GpBaMeasurement& mm) { return mm.landmark == 0; });
+  const lie::SE3 T = poseFromBlock(x.poses[m.knot].data());
+  const Eigen::Vector3d behind = T * Eigen::Vector3d(0.0, 0.0, -3.0);
+  std::copy(behind.data(), behind.data() + 3, x.landmarks[0].data());
+  const GpBaState before = x;
+  const WindowSolverSummary summary = solveWindow(w.factors, w.kinds, w.landmarks, constantOf(x), manifold_, {});
+  EXPECT_FALSE(summary.valid_start);
+  EXPECT_EQ(x.poses, before.poses);
+  EXPECT_EQ(x.velocities, before.velocities);
+  EXPECT_EQ(x.landmarks[5], before.landmarks[5]);
+}
+
+/// r = p₀ − 10 on a 3-vector, refusing to evaluate beyond p₀ = 5 (as a projection refuses a point
+/// behind the camera).
+class WallCost final : public ceres::SizedCostFunction<1, 3> {
+ public:
+  bool Evaluate(double const* const* p, double* r, double** J) const override {
+    if (p[0][0] > 5.0) return false;
+    r[0] = p[0][0] - 10.0;
+    if (J && J[0]) {
+      J[0][0] = 1.0;
+      J[0][1] = J[0][2] = 0.0;
+    }
+    return true;
+  }
+};
+
+TEST(WindowSolver, StepsWhereAFactorRefusesToEvaluateAreRejected) {
+  // The Gauss–Newton step goes to p₀ = 10, where the factor refuses: the step is rejected, the trust
+  // region shrinks and the accepted steps approach the wall from below.
+  std::array<double, 3> p{0.0, 1.0, 2.0};
+  const std::vector<FactorEntry> factors{{std::make_shared<WallCost>(), nullptr, {p.data()}}};
+  const std::map<double*, BlockKind> kinds{{p.data(), BlockKind::kEuclidean}};
+  SE3Manifold manifold;
+  WindowSolverOptions options;
+  options.max_iterations = 30;
+  options.initial_radius = 1e8;
+  const WindowSolverSummary summary = solveWindow(factors, kinds, {p.data()}, {}, manifold, options);
+  ASSERT_TRUE(summary.valid_start);
+  EXPECT_EQ(summary.eliminated_landmarks, 1);
+  EXPECT_DOUBLE_EQ(summary.initial_cost, 50.0);
+  EXPECT_GT(summary.accepted_steps, 0);
+  EXPECT_GT(summary.iterations, summary.accepted_steps + 1);  // some steps were rejected
+  EXPECT_GT(p[0], 2.0);
+  EXPECT_LE(p[0], 5.0);
+  EXPECT_LT(summary.final_cost, 32.0);  // (p₀ − 10)²/2 with p₀ > 2
+  EXPECT_EQ(p[1], 1.0);                 // no gradient along the other coordinates
+  EXPECT_EQ(p[2], 2.0);
+}
+
+}  // namespace
+}  // namespace asynevo::backend
