@@ -1,5 +1,7 @@
 #include "asynevo/backend/window_solver.hpp"
 
+#include "asynevo/backend/factors/linear_prior_factor.hpp"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
@@ -47,6 +49,8 @@ struct Factor {
   int landmark_block = -1;
   std::vector<int> slots;            ///< per block: the landmark's slot of that camera block, or −1
   bool fixed_size = false;           ///< 2 residuals, four camera blocks of tangent 6 (the GP projection)
+  /// A linear prior without loss on camera blocks only: its normal equations come from the factor itself.
+  const LinearPriorFactor* linear_prior = nullptr;
 };
 
 struct Landmark {
@@ -144,6 +148,7 @@ class ArrowProblem {
       }
       f.fixed_size = f.residuals == 2 && camera_blocks == 4 && all_six && f.variables.size() == 5 &&
                      f.landmark_block == 4;
+      if (f.landmark < 0 && !f.entry->loss) f.linear_prior = dynamic_cast<const LinearPriorFactor*>(f.entry->cost.get());
       if (f.landmark < 0) continue;
       Landmark& lm = landmarks_[f.landmark];
       for (std::size_t b = 0; b < f.variables.size(); ++b) {
@@ -168,12 +173,13 @@ class ArrowProblem {
     for (const Factor& f : factors_) {
       const std::size_t n_blocks = f.variables.size();
       jacobian_ptrs.assign(n_blocks, nullptr);
-      if (with_jacobians) {
+      const bool jacobians = with_jacobians && !f.linear_prior;
+      if (jacobians) {
         for (std::size_t b = 0; b < n_blocks; ++b)
           if (f.jacobian_offset[b] >= 0) jacobian_ptrs[b] = jacobians_.data() + f.jacobian_offset[b];
       }
       double* r = residuals_.data() + f.residual_offset;
-      if (!f.entry->cost->Evaluate(f.entry->blocks.data(), r, with_jacobians ? jacobian_ptrs.data() : nullptr))
+      if (!f.entry->cost->Evaluate(f.entry->blocks.data(), r, jacobians ? jacobian_ptrs.data() : nullptr))
         return false;
       Eigen::Map<Eigen::VectorXd> res(r, f.residuals);
       if (!res.allFinite()) return false;
@@ -221,6 +227,10 @@ class ArrowProblem {
       };
       if (f.fixed_size) {
         accumulateProjection(f);
+        continue;
+      }
+      if (f.linear_prior) {
+        accumulateLinearPrior(f);
         continue;
       }
       // The camera blocks side by side (m × K): one product for all their pairs.
@@ -405,6 +415,26 @@ class ArrowProblem {
     }
   }
 
+  /// A linear prior's normal equations (LinearPriorFactor::normalEquations), lower blocks.
+  void accumulateLinearPrior(const Factor& f) {
+    f.linear_prior->normalEquations(f.entry->blocks.data(), prior_information_, prior_gradient_);
+    int ci = 0;
+    for (std::size_t i = 0; i < f.variables.size(); ++i) {
+      const Variable& vi = variables_[f.variables[i]];
+      if (!vi.constant) {
+        g_.segment(vi.offset, vi.tangent) += prior_gradient_.segment(ci, vi.tangent);
+        int cj = 0;
+        for (std::size_t j = 0; j < f.variables.size(); ++j) {
+          const Variable& vj = variables_[f.variables[j]];
+          if (!vj.constant && vj.offset <= vi.offset)
+            H_.block(vi.offset, vj.offset, vi.tangent, vj.tangent) += prior_information_.block(ci, cj, vi.tangent, vj.tangent);
+          cj += vj.tangent;
+        }
+      }
+      ci += vi.tangent;
+    }
+  }
+
   const ceres::Manifold& manifold_;
   std::vector<Variable> variables_;
   std::vector<Factor> factors_;
@@ -417,6 +447,8 @@ class ArrowProblem {
   std::vector<CameraLandmarkBlock> WV_;  ///< scratch: W V⁻¹ of one landmark
   Eigen::MatrixXd camera_jacobian_, camera_information_;  ///< scratch of a generic factor
   Eigen::VectorXd camera_gradient_;
+  Eigen::MatrixXd prior_information_;  ///< scratch of a linear prior
+  Eigen::VectorXd prior_gradient_;
 };
 
 }  // namespace

@@ -418,5 +418,52 @@ TEST(LinearPriorFactor, ResidualAndJacobiansOnPoseAndEuclideanBlocks) {
   }
 }
 
+TEST(LinearPriorFactor, NormalEquationsEqualThoseOfItsJacobian) {
+  // H = JᵀJ and g = Jᵀr from the stored J*ᵀJ*, J*ᵀr* equal those formed from Evaluate's J and r, away
+  // from the linearization point (where J_r⁻¹ ≠ I) and with two pose blocks around a Euclidean one.
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::vector<LinearPriorBlock> blocks(3);
+  std::vector<std::vector<double>> values;
+  for (int b = 0; b < 3; ++b) {
+    if (b != 1) {
+      const SE3 T_bar = lie::se3::exp(randomVec6(rng, 1.0));
+      blocks[b].kind = LinearPriorBlock::Kind::kPose;
+      blocks[b].linearization_point = poseBlock(T_bar);
+      values.push_back(poseBlock(T_bar * lie::se3::exp(randomVec6(rng, 0.4))));
+    } else {
+      const Vec6 w_bar = randomVec6(rng, 0.5);
+      blocks[b].linearization_point = vecBlock(w_bar);
+      values.push_back(vecBlock(w_bar + randomVec6(rng, 0.3)));
+    }
+  }
+  Eigen::MatrixXd J(14, 18);
+  for (int i = 0; i < J.size(); ++i) J(i) = n(rng);
+  Eigen::VectorXd r(14);
+  for (int i = 0; i < 14; ++i) r[i] = n(rng);
+  const LinearPriorFactor factor(blocks, J, r);
+
+  const double* params[] = {values[0].data(), values[1].data(), values[2].data()};
+  Eigen::VectorXd res(14);
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  RowMajor J0(14, 7), J1(14, 6), J2(14, 7);
+  double* jacobians[] = {J0.data(), J1.data(), J2.data()};
+  ASSERT_TRUE(factor.Evaluate(params, res.data(), jacobians));
+  Eigen::MatrixXd J_tangent(14, 18);
+  J_tangent << J0.leftCols<6>(), J1, J2.leftCols<6>();
+  const Eigen::MatrixXd H_expected = J_tangent.transpose() * J_tangent;
+  const Eigen::VectorXd g_expected = J_tangent.transpose() * res;
+
+  Eigen::MatrixXd H;
+  Eigen::VectorXd g;
+  factor.normalEquations(params, H, g);
+  ASSERT_EQ(H.rows(), 18);
+  EXPECT_LT((H - H_expected).cwiseAbs().maxCoeff(), 1e-10 * H_expected.cwiseAbs().maxCoeff());
+  EXPECT_LT((g - g_expected).cwiseAbs().maxCoeff(), 1e-10 * g_expected.cwiseAbs().maxCoeff());
+  // The correction matters here: J*ᵀJ* alone is not the answer.
+  EXPECT_GT((factor.jacobian().transpose() * factor.jacobian() - H_expected).cwiseAbs().maxCoeff(),
+            1e-3 * H_expected.cwiseAbs().maxCoeff());
+}
+
 }  // namespace
 }  // namespace asynevo::backend

@@ -47,6 +47,44 @@ LinearPriorFactor::LinearPriorFactor(std::vector<LinearPriorBlock> blocks, Eigen
     throw std::invalid_argument("LinearPriorFactor: J must be (r.size() × total tangent size)");
   }
   set_num_residuals(static_cast<int>(r_.size()));
+  information_.noalias() = J_.transpose() * J_;
+  gradient_.noalias() = J_.transpose() * r_;
+}
+
+void LinearPriorFactor::normalEquations(double const* const* parameters, Eigen::MatrixXd& H,
+                                        Eigen::VectorXd& g) const {
+  const int n = static_cast<int>(J_.cols());
+  Eigen::VectorXd dx(n);
+  std::vector<lie::Mat6> D(blocks_.size());
+  for (size_t i = 0; i < blocks_.size(); ++i) {
+    const LinearPriorBlock& block = blocks_[i];
+    const int offset = tangent_offsets_[i];
+    if (block.kind == LinearPriorBlock::Kind::kPose) {
+      const lie::Vec6 d =
+          lie::se3::boxMinus(poseFromBlock(parameters[i]), poseFromBlock(block.linearization_point.data()));
+      dx.segment<6>(offset) = d;
+      D[i] = lie::se3::rightJacobianInverse(d);
+    } else {
+      const int size = block.tangentSize();
+      dx.segment(offset, size) = Eigen::Map<const Eigen::VectorXd>(parameters[i], size) -
+                                 Eigen::Map<const Eigen::VectorXd>(block.linearization_point.data(), size);
+    }
+  }
+  H = information_;
+  g = gradient_;
+  g.noalias() += information_ * dx;
+  for (size_t i = 0; i < blocks_.size(); ++i) {
+    if (blocks_[i].kind != LinearPriorBlock::Kind::kPose) continue;
+    const int offset = tangent_offsets_[i];
+    const lie::Mat6 Dt = D[i].transpose();
+    H.middleRows<6>(offset) = Dt * H.middleRows<6>(offset);
+    g.segment<6>(offset) = Dt * g.segment<6>(offset);
+  }
+  for (size_t i = 0; i < blocks_.size(); ++i) {
+    if (blocks_[i].kind != LinearPriorBlock::Kind::kPose) continue;
+    const int offset = tangent_offsets_[i];
+    H.middleCols<6>(offset) = H.middleCols<6>(offset) * D[i];
+  }
 }
 
 bool LinearPriorFactor::Evaluate(double const* const* parameters, double* residuals,
