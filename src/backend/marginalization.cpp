@@ -54,8 +54,29 @@ MarginalizationResult marginalize(const std::vector<const FactorEntry*>& factors
       block_kinds.push_back(s.kind);
       offsets.push_back(s.offset);
     }
-    const LinearizedFactor lin = linearize(*f, block_kinds);
     ++result.factors;
+    const auto* linear_prior = dynamic_cast<const LinearPriorFactor*>(f->cost.get());
+    if (linear_prior && !f->loss) {
+      // The previous prior: its normal equations directly (O(n²) per pose block, not O(m·n²)).
+      Eigen::MatrixXd H_prior;
+      Eigen::VectorXd b_prior;
+      linear_prior->normalEquations(f->blocks.data(), H_prior, b_prior);
+      std::vector<int> local(f->blocks.size());
+      for (std::size_t i = 0, col = 0; i < f->blocks.size(); ++i) {
+        local[i] = static_cast<int>(col);
+        col += static_cast<std::size_t>(linear_prior->blocks()[i].tangentSize());
+      }
+      for (std::size_t i = 0; i < f->blocks.size(); ++i) {
+        const int ni = linear_prior->blocks()[i].tangentSize();
+        b.segment(offsets[i], ni) += b_prior.segment(local[i], ni);
+        for (std::size_t j = 0; j < f->blocks.size(); ++j) {
+          const int nj = linear_prior->blocks()[j].tangentSize();
+          H.block(offsets[i], offsets[j], ni, nj) += H_prior.block(local[i], local[j], ni, nj);
+        }
+      }
+      continue;
+    }
+    const LinearizedFactor lin = linearize(*f, block_kinds);
     if (!lin.valid) {
       ++result.invalid_factors;
       continue;

@@ -515,15 +515,13 @@ WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const s
     ++summary.accepted_steps;
     radius = std::min(1e16, radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3)));
     decrease_factor = 2.0;
-    // Re-linearize at the new point (the values that gave `candidate`: evaluation is deterministic).
-    double relinearized = 0.0;
-    if (!timed(summary.jacobians_ms, [&] { return problem.evaluate(true, relinearized); })) {
-      problem.restoreValues();  // cannot happen for a deterministic factor; stay at the last good point
-      timed(summary.jacobians_ms, [&] { return problem.evaluate(true, relinearized); });
-      break;
-    }
-    cost = relinearized;
+    cost = candidate;
     summary.final_cost = cost;
+    // The last iteration's new point is not linearized again: nothing would use its Jacobians.
+    if (iteration == options.max_iterations) break;
+    // Re-linearize at the new point (evaluation is deterministic: the cost is `candidate` again).
+    double relinearized = 0.0;
+    if (!timed(summary.jacobians_ms, [&] { return problem.evaluate(true, relinearized); })) break;
     timed(summary.linear_ms, [&] {
       problem.buildNormalEquations();
       return 0;
