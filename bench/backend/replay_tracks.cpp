@@ -4,7 +4,7 @@
 // for docs/backend.md: it separates the error the frontend's tracks bring from the error of the backend.
 //
 //   bench_replay_tracks RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental]
-//                       [--seed N] [--dump-errors FILE] [--skip-ms MS]
+//                       [--seed N] [--dump-errors FILE] [--skip-ms MS] [--window-solver ceres|builtin]
 //
 // Writes OUT_TRAJ (TUM, as the run's stamped_traj_estimate.txt), OUT_TRAJ.velocities.txt (as its
 // velocities.txt), OUT_TRAJ.segments.txt (as its segments.txt) and OUT_TRAJ.updates.csv (the update
@@ -17,6 +17,7 @@
 // recording had begun that much later (for the frontend's tracks as they were): the start comes from other
 // windows of the same tracks. How much a sequence's result depends on when its start happens
 // (docs/evaluation_matrix.md, "Start offsets").
+// --window-solver: replaces the run's backend.window_solver, so both solvers replay the same run.
 //
 // RUN_DIR holds tracks.txt, backend_feed.txt and config.yaml (from 'asynevo run'), DATASET_DIR the
 // sequence (calib.txt or a Kalibr camchain; for --oracle a folder written by 'asynevo simulate').
@@ -64,17 +65,18 @@ struct Args {
   unsigned seed = 1;
   std::string dump_errors;  ///< --dump-errors FILE: measured vs exact pixel of every fixed-point measurement
   double skip_ms = 0;       ///< --skip-ms: measurements this long after the first are not fed
+  std::string window_solver;  ///< --window-solver: overrides the run's backend.window_solver
 };
 
 Args parse(int argc, char** argv) {
   if (argc < 4) {
     std::fprintf(stderr,
                  "usage: %s RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental] "
-                 "[--seed N] [--dump-errors FILE] [--skip-ms MS]\n",
+                 "[--seed N] [--dump-errors FILE] [--skip-ms MS] [--window-solver ceres|builtin]\n",
                  argv[0]);
     std::exit(2);
   }
-  Args a{argv[1], argv[2], argv[3], std::nullopt, false, false, 1, {}, 0.0};
+  Args a{argv[1], argv[2], argv[3], std::nullopt, false, false, 1, {}, 0.0, {}};
   for (int i = 4; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "--oracle" && i + 1 < argc) {
@@ -89,6 +91,12 @@ Args parse(int argc, char** argv) {
       a.skip_ms = std::stod(argv[++i]);
       if (!(a.skip_ms >= 0)) {
         std::fprintf(stderr, "--skip-ms %s: not a duration >= 0\n", argv[i]);
+        std::exit(2);
+      }
+    } else if (flag == "--window-solver" && i + 1 < argc) {
+      a.window_solver = argv[++i];
+      if (a.window_solver != "ceres" && a.window_solver != "builtin") {
+        std::fprintf(stderr, "--window-solver %s: not one of ceres, builtin\n", argv[i]);
         std::exit(2);
       }
     } else if (flag == "--seed" && i + 1 < argc) {
@@ -178,6 +186,7 @@ int main(int argc, char** argv) try {
 
   backend::EstimatorOptions options;
   options.config = config.backend;
+  if (!args.window_solver.empty()) options.config.window_solver = args.window_solver;
   // As 'asynevo run': pixel thresholds in the frontend's (binned) pixels.
   options.focal_px = 0.5 * (camera.fx() + camera.fy()) /
                      frontend::Frontend::binningFor(config.frontend, camera.width(), camera.height());
