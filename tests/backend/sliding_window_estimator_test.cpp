@@ -55,6 +55,31 @@ TEST(SlidingWindowEstimator, TracksASyntheticSixDofTrajectoryAsWellAsTheFullBatc
       << "ATE " << window_accuracy.ate_rmse << " over a path of " << window_accuracy.path_length;
 }
 
+TEST(SlidingWindowEstimator, TheBuiltinSolverTracksAsCeresDoesAndIsDeterministic) {
+  // window_solver: builtin on the same input as the Ceres window: as accurate (both within 1.5 % of the
+  // path, and within a few millimetres of each other), the same bounded window, identical twice.
+  const SyntheticScene scene(150);
+  const double duration = 2.5;
+  const auto measurements = scene.measurements(duration, 0.01, 0.4, 0.3);
+  EstimatorOptions builtin = defaultOptions();
+  builtin.config.window_solver = "builtin";
+  const RunResult own = runEstimator(measurements, duration, builtin);
+  const RunResult ceres = runEstimator(measurements, duration, defaultOptions());
+  ASSERT_TRUE(own.stats.initialized) << own.stats.init_last_failure;
+  ASSERT_GT(own.knots.size(), 40u);
+  EXPECT_GT(own.stats.marginalizations, 25u);
+  EXPECT_LE(own.stats.max_window_knots, builtin.config.window_max_knots + 1);
+  const Accuracy own_accuracy = accuracy(own.knots);
+  const Accuracy ceres_accuracy = accuracy(ceres.knots);
+  EXPECT_LT(own_accuracy.ate_rmse, 0.015 * own_accuracy.path_length)
+      << "ATE " << own_accuracy.ate_rmse << " over a path of " << own_accuracy.path_length;
+  EXPECT_LT(std::abs(own_accuracy.ate_rmse - ceres_accuracy.ate_rmse), 0.003)
+      << "builtin ATE " << own_accuracy.ate_rmse << ", Ceres ATE " << ceres_accuracy.ate_rmse;
+  const RunResult again = runEstimator(measurements, duration, builtin);
+  ASSERT_EQ(again.knots.size(), own.knots.size());
+  for (std::size_t i = 0; i < own.knots.size(); ++i) EXPECT_EQ(again.knots[i].pose, own.knots[i].pose) << i;
+}
+
 TEST(SlidingWindowEstimator, SameInputGivesIdenticalOutput) {
   const SyntheticScene scene(150);
   const auto measurements = scene.measurements(2.0, 0.01, 0.4, 0.3);
