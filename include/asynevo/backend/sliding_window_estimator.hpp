@@ -1,8 +1,8 @@
 #pragma once
 // AsynEVO's backend (DESIGN.md §4 Backend): a sliding window of GP knots every knot_dt of event time,
 // every measurement a GP projection factor at its own time, WNOA priors between knots, Levenberg–
-// Marquardt (Ceres, DENSE_SCHUR, Huber loss), and dynamic marginalization (paper Alg. 1) with the
-// N_max safeguard. docs/backend.md describes each step.
+// Marquardt (Huber loss; our own Schur solver, window_solver.hpp, or Ceres DENSE_SCHUR), and dynamic
+// marginalization (paper Alg. 1) with the N_max safeguard. docs/method/backend.md describes each step.
 
 #include <limits>
 #include <map>

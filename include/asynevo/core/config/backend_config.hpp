@@ -60,9 +60,9 @@ struct BackendConfig {
   int max_iterations = 5;
   double max_solver_time_s = 0.2;
   int solver_threads = 1;       ///< Ceres threads; 1 keeps offline runs bit-for-bit deterministic
-  /// The window's Levenberg–Marquardt solver: "ceres" (Ceres, DENSE_SCHUR) or "builtin" (our own
-  /// arrow-structured Schur solver, backend/window_solver.hpp; single-threaded).
-  std::string window_solver = "ceres";
+  /// The window's Levenberg–Marquardt solver: "builtin" (our own arrow-structured Schur solver,
+  /// backend/window_solver.hpp; single-threaded) or "ceres" (Ceres, DENSE_SCHUR, solver_threads).
+  std::string window_solver = "builtin";
 
   // --- initialization ---
   /// Median parallax of the two views in pixels (ray angle × focal): first the raw image motion, then,
@@ -144,7 +144,7 @@ struct BackendConfig {
     v("max_iterations", max_iterations, "Levenberg-Marquardt iterations per window solve");
     v("max_solver_time_s", max_solver_time_s, "wall-time cap per window solve [s]");
     v("solver_threads", solver_threads, "Ceres threads (1 = deterministic)");
-    v("window_solver", window_solver, "the window's solver: ceres or builtin (own Schur solver)");
+    v("window_solver", window_solver, "the window's solver: builtin (own Schur solver) or ceres");
     v("init_min_parallax_px", init_min_parallax_px,
       "initialization: median parallax, raw and with the rotation removed [px]");
     v("init_min_features", init_min_features, "initialization: features seen at both times");
