@@ -99,45 +99,47 @@ class WindowSolverTest : public ::testing::Test {
     return {x.poses.front().data(), x.poses.back().data()};
   }
 
+  /// Both solvers from the start, `iterations` each, on windows built alike.
+  struct BothSolved {
+    GpBaState x_ceres, x_own;
+    double ceres_cost = 0.0;
+    WindowSolverSummary own;
+  };
+  BothSolved solveBoth(int iterations) {
+    BothSolved b{start_, start_, 0.0, {}};
+    const Window w_ceres = makeWindow(scenario_, b.x_ceres, 2.0);
+    const Window w_own = makeWindow(scenario_, b.x_own, 2.0);
+    b.ceres_cost = solveWithCeres(w_ceres, constantOf(b.x_ceres), iterations);
+    WindowSolverOptions options;
+    options.max_iterations = iterations;
+    b.own = solveWindow(w_own.factors, w_own.kinds, w_own.landmarks, constantOf(b.x_own), manifold_, options);
+    return b;
+  }
+
   GpBaScenario scenario_;
   GpBaState start_;
   SE3Manifold manifold_;
 };
 
 TEST_F(WindowSolverTest, ReachesTheMinimumCeresReaches) {
-  GpBaState x_ceres = start_;
-  GpBaState x_own = start_;
-  const Window w_ceres = makeWindow(scenario_, x_ceres, 2.0);
-  const Window w_own = makeWindow(scenario_, x_own, 2.0);
-  const double ceres_cost = solveWithCeres(w_ceres, constantOf(x_ceres), 50);
-  WindowSolverOptions options;
-  options.max_iterations = 50;
-  const WindowSolverSummary summary =
-      solveWindow(w_own.factors, w_own.kinds, w_own.landmarks, constantOf(x_own), manifold_, options);
+  const BothSolved b = solveBoth(50);
+  const WindowSolverSummary& summary = b.own;
   ASSERT_TRUE(summary.valid_start);
   EXPECT_EQ(summary.eliminated_landmarks, 60);
   EXPECT_EQ(summary.reduced_dims, 12 * 12 - 2 * 6);  // knots' poses and twists, two poses constant
   EXPECT_GT(summary.initial_cost, 1e3 * summary.final_cost);
-  EXPECT_NEAR(summary.final_cost, ceres_cost, 1e-6 * ceres_cost + 1e-9);
-  EXPECT_LT(maxPoseDifference(x_own, x_ceres), 1e-6);
+  EXPECT_NEAR(summary.final_cost, b.ceres_cost, 1e-6 * b.ceres_cost + 1e-9);
+  EXPECT_LT(maxPoseDifference(b.x_own, b.x_ceres), 1e-6);
   // Close to the truth (the floor is the truth not being exactly WNOA).
-  EXPECT_LT(testing::positionRmse(scenario_, x_own), 5e-3);
+  EXPECT_LT(testing::positionRmse(scenario_, b.x_own), 5e-3);
 }
 
 TEST_F(WindowSolverTest, FewIterationsDescendLikeCeres) {
   // The estimator runs 5 iterations per window: both solvers take the same kind of steps.
-  GpBaState x_ceres = start_;
-  GpBaState x_own = start_;
-  const Window w_ceres = makeWindow(scenario_, x_ceres, 2.0);
-  const Window w_own = makeWindow(scenario_, x_own, 2.0);
-  const double ceres_cost = solveWithCeres(w_ceres, constantOf(x_ceres), 3);
-  WindowSolverOptions options;
-  options.max_iterations = 3;
-  const WindowSolverSummary summary =
-      solveWindow(w_own.factors, w_own.kinds, w_own.landmarks, constantOf(x_own), manifold_, options);
-  EXPECT_LE(summary.iterations, 4);
-  EXPECT_LT(summary.final_cost, 0.1 * summary.initial_cost);
-  EXPECT_NEAR(summary.final_cost, ceres_cost, 0.05 * ceres_cost);
+  const BothSolved b = solveBoth(3);
+  EXPECT_LE(b.own.iterations, 4);
+  EXPECT_LT(b.own.final_cost, 0.1 * b.own.initial_cost);
+  EXPECT_NEAR(b.own.final_cost, b.ceres_cost, 0.05 * b.ceres_cost);
 }
 
 TEST_F(WindowSolverTest, ConstantBlocksDoNotMove) {
