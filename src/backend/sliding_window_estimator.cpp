@@ -565,11 +565,6 @@ std::pair<int, double> SlidingWindowEstimator::solve(int max_iterations) {
   std::vector<FactorEntry> factors;
   std::map<double*, BlockKind> kinds;
   buildFactors(factors, kinds, nullptr);
-  ceres::Problem::Options problem_options;
-  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
   std::vector<double> residual_scratch;
   std::vector<FactorEntry> valid_factors;
   for (FactorEntry& f : factors) {
@@ -580,6 +575,11 @@ std::pair<int, double> SlidingWindowEstimator::solve(int max_iterations) {
   }
   if (options_.config.window_solver == "builtin" && !options_.sparse_linear_solver)
     return solveBuiltin(valid_factors, kinds, max_iterations, msSince(build_start));
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
   for (const FactorEntry& f : valid_factors) problem.AddResidualBlock(f.cost.get(), f.loss.get(), f.blocks);
   for (const auto& [block, kind] : kinds) {
     if (kind == BlockKind::kPose && problem.HasParameterBlock(block)) problem.SetManifold(block, se3_manifold_.get());
