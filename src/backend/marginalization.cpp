@@ -15,6 +15,35 @@ struct BlockSlot {
   int offset = 0;
 };
 
+/// Whether `llt` factored a positive-definite matrix whose pivots L_ii² all exceed relative_threshold ×
+/// the largest one (a small eigenvalue shows as a small pivot in practice; the pivots bound the
+/// eigenvalues only from above, so this is a screen for the Cholesky path, not a proof of conditioning).
+bool positiveDefinite(const Eigen::LLT<Eigen::MatrixXd>& llt, double relative_threshold) {
+  if (llt.info() != Eigen::Success || llt.rows() == 0) return false;
+  const Eigen::VectorXd pivots = llt.matrixLLT().diagonal().cwiseAbs2();
+  return pivots.allFinite() && pivots.minCoeff() > relative_threshold * pivots.maxCoeff();
+}
+
+/// H* −= H_rm H_mm⁺ H_mr, b* −= H_rm H_mm⁺ b_m with the pseudo-inverse of the eigenvalues above
+/// relative_threshold × the largest; `rank` counts them.
+void schurByEigenvalues(const Eigen::MatrixXd& H_mm, const Eigen::MatrixXd& H_rm, const Eigen::VectorXd& b_m,
+                        double relative_threshold, Eigen::MatrixXd& H_star, Eigen::VectorXd& b_star, int& rank) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(H_mm);
+  const Eigen::VectorXd& s = eigen.eigenvalues();
+  const double cut = relative_threshold * std::max(s.maxCoeff(), 0.0);
+  const auto nm = s.size();
+  Eigen::VectorXd s_inv = Eigen::VectorXd::Zero(nm);
+  for (Eigen::Index i = 0; i < nm; ++i) {
+    if (s(i) > cut && s(i) > 0) {
+      s_inv(i) = 1.0 / s(i);
+      ++rank;
+    }
+  }
+  const Eigen::MatrixXd H_mm_pinv = eigen.eigenvectors() * s_inv.asDiagonal() * eigen.eigenvectors().transpose();
+  H_star -= H_rm * H_mm_pinv * H_rm.transpose();
+  b_star -= H_rm * H_mm_pinv * b_m;
+}
+
 }  // namespace
 
 MarginalizationResult marginalize(const std::vector<const FactorEntry*>& factors, const std::set<double*>& marginalized,
@@ -96,23 +125,22 @@ MarginalizationResult marginalize(const std::vector<const FactorEntry*>& factors
   Eigen::MatrixXd H_star = H.bottomRightCorner(nr, nr);
   Eigen::VectorXd b_star = b.tail(nr);
   if (nm > 0) {
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(0.5 * (H.topLeftCorner(nm, nm) + H.topLeftCorner(nm, nm).transpose()));
-    const Eigen::VectorXd& s = eigen.eigenvalues();
-    const double cut = relative_threshold * std::max(s.maxCoeff(), 0.0);
-    Eigen::VectorXd s_inv = Eigen::VectorXd::Zero(nm);
-    for (int i = 0; i < nm; ++i) {
-      if (s(i) > cut && s(i) > 0) {
-        s_inv(i) = 1.0 / s(i);
-        ++result.rank_mm;
-      }
-    }
-    const Eigen::MatrixXd H_mm_pinv = eigen.eigenvectors() * s_inv.asDiagonal() * eigen.eigenvectors().transpose();
+    const Eigen::MatrixXd H_mm = 0.5 * (H.topLeftCorner(nm, nm) + H.topLeftCorner(nm, nm).transpose());
     const Eigen::MatrixXd H_rm = H.bottomLeftCorner(nr, nm);
-    H_star -= H_rm * H_mm_pinv * H_rm.transpose();
-    b_star -= H_rm * H_mm_pinv * b.head(nm);
+    // Full rank (the usual case): H_mm⁻¹ through its Cholesky factor, a few times cheaper than the
+    // eigen-decomposition below, which stays for a rank-deficient H_mm (see positiveDefinite).
+    const Eigen::LLT<Eigen::MatrixXd> llt(H_mm);
+    if (positiveDefinite(llt, relative_threshold)) {
+      result.rank_mm = nm;
+      const Eigen::MatrixXd X = llt.solve(H_rm.transpose());  // H_mm⁻¹ H_mr
+      H_star.noalias() -= H_rm * X;
+      b_star.noalias() -= X.transpose() * b.head(nm);
+    } else {
+      schurByEigenvalues(H_mm, H_rm, b.head(nm), relative_threshold, H_star, b_star, result.rank_mm);
+    }
   }
   H_star = 0.5 * (H_star + H_star.transpose());
-  const LinearPriorSqrt sqrt_form = linearPriorFromInformation(H_star, b_star, relative_threshold);
+  LinearPriorSqrt sqrt_form = linearPriorFromInformation(H_star, b_star, relative_threshold);
   result.prior_rank = sqrt_form.rank;
   if (sqrt_form.rank == 0) return result;  // nothing informative is left about the blanket
 
@@ -124,7 +152,7 @@ MarginalizationResult marginalize(const std::vector<const FactorEntry*>& factors
     prior_blocks.push_back(std::move(block));
     result.prior_blocks.push_back(s.block);
   }
-  result.prior = std::make_shared<LinearPriorFactor>(std::move(prior_blocks), sqrt_form.J, sqrt_form.r);
+  result.prior = std::make_shared<LinearPriorFactor>(std::move(prior_blocks), std::move(sqrt_form));
   return result;
 }
 

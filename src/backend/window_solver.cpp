@@ -498,8 +498,13 @@ WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const s
       break;
     problem.saveValues();
     problem.applyStep();
+    // The candidate is evaluated with its Jacobians (steps are mostly taken, and the linearization then
+    // comes from this evaluation), except at the last iteration, where nothing would use them. H and g
+    // are kept apart from the evaluation buffers, so a rejected candidate leaves them valid.
+    const bool last = iteration == options.max_iterations;
     double candidate = 0.0;
-    const bool valid = timed(summary.residuals_ms, [&] { return problem.evaluate(false, candidate); });
+    const bool valid = timed(last ? summary.residuals_ms : summary.jacobians_ms,
+                             [&] { return problem.evaluate(!last, candidate); });
     if (valid && std::abs(cost - candidate) <= options.function_tolerance * cost) {
       problem.restoreValues();  // as Ceres: the function tolerance ends the solve before the step is taken
       break;
@@ -517,11 +522,7 @@ WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const s
     decrease_factor = 2.0;
     cost = candidate;
     summary.final_cost = cost;
-    // The last iteration's new point is not linearized again: nothing would use its Jacobians.
-    if (iteration == options.max_iterations) break;
-    // Re-linearize at the new point (evaluation is deterministic: the cost is `candidate` again).
-    double relinearized = 0.0;
-    if (!timed(summary.jacobians_ms, [&] { return problem.evaluate(true, relinearized); })) break;
+    if (last) break;
     timed(summary.linear_ms, [&] {
       problem.buildNormalEquations();
       return 0;

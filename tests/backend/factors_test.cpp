@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdio>
 #include <random>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -379,6 +380,53 @@ TEST(LinearPriorFactor, SquareRootOfARankDeficientInformation) {
   EXPECT_EQ(prior.rank, 9);
   EXPECT_LT((prior.J.transpose() * prior.J - H).cwiseAbs().maxCoeff(), 1e-11 * H.cwiseAbs().maxCoeff());
   EXPECT_LT((prior.J.transpose() * prior.r - b).cwiseAbs().maxCoeff(), 1e-11 * b.cwiseAbs().maxCoeff());
+}
+
+TEST(LinearPriorFactor, SquareRootOfAFullRankInformationKeepsItExactly) {
+  std::mt19937 rng(16);
+  std::normal_distribution<double> n(0.0, 1.0);
+  Eigen::MatrixXd A(14, 12);
+  for (int i = 0; i < A.size(); ++i) A(i) = n(rng);
+  const Eigen::MatrixXd H = A.transpose() * A;
+  Eigen::VectorXd b(12);
+  for (int i = 0; i < 12; ++i) b[i] = n(rng);
+  const LinearPriorSqrt prior = linearPriorFromInformation(H, b);
+  EXPECT_EQ(prior.rank, 12);
+  EXPECT_LT((prior.J.transpose() * prior.J - H).cwiseAbs().maxCoeff(), 1e-12 * H.cwiseAbs().maxCoeff());
+  EXPECT_LT((prior.J.transpose() * prior.r - b).cwiseAbs().maxCoeff(), 1e-12 * b.cwiseAbs().maxCoeff());
+  // Full rank: the input itself is J*ᵀJ* and J*ᵀr*, and the factor uses it for its normal equations.
+  EXPECT_EQ(prior.information, H);
+  EXPECT_EQ(prior.gradient, b);
+  std::vector<LinearPriorBlock> blocks(2);
+  blocks[0].linearization_point = vecBlock(Vec6::Zero());
+  blocks[1].linearization_point = vecBlock(Vec6::Ones());
+  const LinearPriorFactor from_sqrt(blocks, prior);
+  const LinearPriorFactor from_j(blocks, prior.J, prior.r);
+  const std::vector<double> x0 = vecBlock(randomVec6(rng, 0.1));
+  const std::vector<double> x1 = vecBlock(Vec6::Ones() + randomVec6(rng, 0.1));
+  const double* params[] = {x0.data(), x1.data()};
+  Eigen::MatrixXd H_sqrt, H_j;
+  Eigen::VectorXd g_sqrt, g_j;
+  from_sqrt.normalEquations(params, H_sqrt, g_sqrt);
+  from_j.normalEquations(params, H_j, g_j);
+  EXPECT_LT((H_sqrt - H_j).cwiseAbs().maxCoeff(), 1e-12 * H.cwiseAbs().maxCoeff());
+  EXPECT_LT((g_sqrt - g_j).cwiseAbs().maxCoeff(), 1e-10 * (1 + g_j.cwiseAbs().maxCoeff()));
+  LinearPriorSqrt wrong = prior;
+  wrong.gradient.resize(11);
+  EXPECT_THROW(LinearPriorFactor(blocks, wrong), std::invalid_argument);
+}
+
+TEST(LinearPriorFactor, SquareRootDropsTheNegativePartOfAnIndefiniteInformation) {
+  // Rounding can leave a slightly negative direction in a Schur complement: it is dropped, not kept.
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3, 3);
+  H.diagonal() << 4.0, 1.0, -1e-9;
+  const Eigen::VectorXd b = Eigen::Vector3d(2.0, 1.0, 0.0);
+  const LinearPriorSqrt prior = linearPriorFromInformation(H, b);
+  EXPECT_EQ(prior.rank, 2);
+  Eigen::MatrixXd expected = H;
+  expected(2, 2) = 0.0;
+  EXPECT_LT((prior.J.transpose() * prior.J - expected).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((prior.J.transpose() * prior.r - b).cwiseAbs().maxCoeff(), 1e-12);
 }
 
 TEST(LinearPriorFactor, ResidualAndJacobiansOnPoseAndEuclideanBlocks) {

@@ -143,6 +143,43 @@ TEST(Marginalization, SchurPriorEqualsTheAnalyticReductionOnALinearProblem) {
   EXPECT_LT((Jp.transpose() * rp - b_star).norm(), 1e-9 * (1 + b_star.norm()));
 }
 
+TEST(Marginalization, RankDeficientMarginalizedBlockIsEliminatedByItsPseudoInverse) {
+  // x1's second coordinate is in no factor: H_mm has rank 1, so the Cholesky path is not taken and the
+  // eigen pseudo-inverse eliminates the observed direction only.
+  std::mt19937 rng(3);
+  std::normal_distribution<double> n(0, 1);
+  Eigen::Matrix<double, 3, 4> A1, A2;
+  for (int i = 0; i < 12; ++i) A1(i) = n(rng), A2(i) = n(rng);
+  A1.col(1).setZero();
+  A2.col(1).setZero();
+  const Eigen::Vector3d c1(0.5, -1.0, 2.0), c2(1.0, 0.0, -0.5);
+  double x1[2] = {0.3, -0.1}, x2[2] = {1.0, 2.0}, x3[2] = {-0.5, 0.4};
+  FactorEntry f1{std::make_shared<LinearFactor>(A1, c1), nullptr, {x1, x2}};
+  FactorEntry f2{std::make_shared<LinearFactor>(A2, c2), nullptr, {x1, x3}};
+  const std::map<double*, BlockKind> kinds = {{x1, BlockKind::kEuclidean}, {x2, BlockKind::kEuclidean}, {x3, BlockKind::kEuclidean}};
+  const MarginalizationResult result = marginalize({&f1, &f2}, {x1}, kinds);
+  ASSERT_TRUE(result.prior);
+  EXPECT_EQ(result.rank_mm, 1);
+
+  Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Zero();
+  J.block<3, 2>(0, 0) = A1.leftCols<2>();
+  J.block<3, 2>(0, 2) = A1.rightCols<2>();
+  J.block<3, 2>(3, 0) = A2.leftCols<2>();
+  J.block<3, 2>(3, 4) = A2.rightCols<2>();
+  Eigen::Matrix<double, 6, 1> r;
+  r << A1 * Eigen::Vector4d(x1[0], x1[1], x2[0], x2[1]) - c1, A2 * Eigen::Vector4d(x1[0], x1[1], x3[0], x3[1]) - c2;
+  const Eigen::Matrix<double, 6, 6> H = J.transpose() * J;
+  const Eigen::Matrix<double, 6, 1> b = J.transpose() * r;
+  Eigen::Matrix2d H_mm_pinv = Eigen::Matrix2d::Zero();
+  H_mm_pinv(0, 0) = 1.0 / H(0, 0);
+  const Eigen::Matrix4d H_star = H.bottomRightCorner<4, 4>() - H.bottomLeftCorner<4, 2>() * H_mm_pinv * H.topRightCorner<2, 4>();
+  const Eigen::Vector4d b_star = b.tail<4>() - H.bottomLeftCorner<4, 2>() * H_mm_pinv * b.head<2>();
+  const Eigen::MatrixXd& Jp = result.prior->jacobian();
+  const Eigen::VectorXd& rp = result.prior->residual();
+  EXPECT_LT((Jp.transpose() * Jp - H_star).norm(), 1e-9 * H_star.norm());
+  EXPECT_LT((Jp.transpose() * rp - b_star).norm(), 1e-9 * (1 + b_star.norm()));
+}
+
 TEST(Linearize, HuberCorrectionScalesAnOutlierResidual) {
   double x1[2] = {0, 0}, x2[2] = {0, 0};
   Eigen::Matrix<double, 3, 4> A = Eigen::Matrix<double, 3, 4>::Zero();

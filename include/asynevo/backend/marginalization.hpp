@@ -2,7 +2,8 @@
 // Marginalization by Schur complement on the Markov blanket (reference/backend.md §7.1):
 // linearize every factor touching the variables to remove x_m (robust weights folded in), build
 //   H = Σ JᵢᵀJᵢ,  b = Σ Jᵢᵀrᵢ,  H* = H_rr − H_rm H_mm⁺ H_mr,  b* = b_r − H_rm H_mm⁺ b_m
-// with a relative eigenvalue threshold for H_mm⁺, and turn (H*, b*) into a LinearPriorFactor
+// (H_mm⁺ = H_mm⁻¹ by Cholesky where H_mm is positive definite, else the pseudo-inverse with a relative
+// eigenvalue threshold), and turn (H*, b*) into a LinearPriorFactor
 // r(x) = r* + J*(x ⊟ x̄) on the remaining blanket blocks x_r, linearized at their current values.
 
 #include <map>

@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <limits>
+#include <optional>
 
 #include "asynevo/gp/wnoa.hpp"
 #include "asynevo/lie/se3.hpp"
@@ -88,28 +89,35 @@ inline SegmentTerms segmentTerms(const SE3& T_k, const SE3& T_k1, const Vec6& w_
 /// M = ∂(J_r⁻¹(ξ)ϖ_{k+1})/∂ξ (series, see dJrInvTimesVecDxi). docs/math/gp_backend.md §3.
 class PoseInterpolator {
  public:
+  /// Owns its segment terms (computed here).
   PoseInterpolator(const SE3& T_k, const Vec6& w_k, const SE3& T_k1, const Vec6& w_k1,
                    const InterpolationWeights& weights, bool with_jacobians = true,
                    int series_order = kDefaultSeriesOrder)
-      : PoseInterpolator(T_k, w_k, segmentTerms(T_k, T_k1, w_k1, with_jacobians, series_order), weights) {}
+      : owned_(segmentTerms(T_k, T_k1, w_k1, with_jacobians, series_order)) {
+    init(T_k, w_k, *owned_, weights, with_jacobians);
+  }
 
-  /// From the segment's knot-only terms (computed once per segment, see SegmentTerms).
-  PoseInterpolator(const SE3& T_k, const Vec6& w_k, const SegmentTerms& segment, const InterpolationWeights& weights)
-      : weights_(weights),
-        has_jacobians_(segment.with_jacobians),
-        xi_(segment.xi),
-        J_inv_w_k1_(segment.J_inv_w_k1),
-        J_inv_(segment.J_inv),
-        A1_(segment.A1),
-        M_(segment.M) {
-    xi_tau_ = weights.lambda12 * w_k + weights.psi11 * xi_ + weights.psi12 * J_inv_w_k1_;
-    T_k_tau_ = lie::se3::exp(xi_tau_);
-    T_tau_ = T_k * T_k_tau_;
-    if (has_jacobians_) {
-      J_tau_ = lie::se3::rightJacobian(xi_tau_);
-      W_ = weights.psi12 * M_;
-      W_.diagonal().array() += weights.psi11;
-    }
+  /// From the segment's knot-only terms (computed once per segment, see SegmentTerms). `segment` is
+  /// referenced, not copied: it must outlive the interpolator. with_jacobians = false skips J_r(ξ_τ)
+  /// where only the pose is wanted; Jacobians also need `segment` to have them.
+  PoseInterpolator(const SE3& T_k, const Vec6& w_k, const SegmentTerms& segment, const InterpolationWeights& weights,
+                   bool with_jacobians = true) {
+    init(T_k, w_k, segment, weights, with_jacobians);
+  }
+
+  PoseInterpolator(const PoseInterpolator& other) { *this = other; }
+  PoseInterpolator& operator=(const PoseInterpolator& other) {
+    if (this == &other) return *this;
+    owned_ = other.owned_;
+    segment_ = owned_ ? &*owned_ : other.segment_;
+    weights_ = other.weights_;
+    has_jacobians_ = other.has_jacobians_;
+    xi_tau_ = other.xi_tau_;
+    T_k_tau_ = other.T_k_tau_;
+    T_tau_ = other.T_tau_;
+    J_tau_ = other.J_tau_;
+    W_ = other.W_;
+    return *this;
   }
 
   /// T(τ) (world from body at τ).
@@ -117,7 +125,7 @@ class PoseInterpolator {
   /// ξ_τ = Log(T_k⁻¹ T(τ)).
   const Vec6& localPose() const { return xi_tau_; }
   /// ξ = Log(T_k⁻¹ T_{k+1}).
-  const Vec6& knotTwist() const { return xi_; }
+  const Vec6& knotTwist() const { return segment_->xi; }
   const InterpolationWeights& weights() const { return weights_; }
   /// Whether the Jacobian intermediates were computed (constructor argument with_jacobians).
   bool hasJacobians() const { return has_jacobians_; }
@@ -138,11 +146,11 @@ class PoseInterpolator {
       d_f_d_pose_k->template leftCols<3>() = G1Rt;
       d_f_d_pose_k->template rightCols<3>() =
           G.template rightCols<3>() * Rt - G1Rt * lie::so3::hat(T_k_tau_.translation());
-      d_f_d_pose_k->noalias() -= GB * A1_;
+      d_f_d_pose_k->noalias() -= GB * segment_->A1;
     }
     if (d_f_d_vel_k != nullptr) *d_f_d_vel_k = weights_.lambda12 * GJ;
-    if (d_f_d_pose_k1 != nullptr) d_f_d_pose_k1->noalias() = GB * J_inv_;
-    if (d_f_d_vel_k1 != nullptr) d_f_d_vel_k1->noalias() = weights_.psi12 * (GJ * J_inv_);
+    if (d_f_d_pose_k1 != nullptr) d_f_d_pose_k1->noalias() = GB * segment_->J_inv;
+    if (d_f_d_vel_k1 != nullptr) d_f_d_vel_k1->noalias() = weights_.psi12 * (GJ * segment_->J_inv);
   }
 
   /// The four 6×6 Jacobians ∂δ_τ/∂(·).
@@ -153,19 +161,31 @@ class PoseInterpolator {
 
   // Intermediate quantities, exposed for the velocity interpolation.
   const Mat6& rightJacobianTau() const { return J_tau_; }
-  const Mat6& rightJacobianInverseXi() const { return J_inv_; }
-  const Mat6& leftJacobianInverseXi() const { return A1_; }
-  const Mat6& dJrInvTimesVelDxi() const { return M_; }
-  const Vec6& rightJacobianInverseTimesVelK1() const { return J_inv_w_k1_; }
+  const Mat6& rightJacobianInverseXi() const { return segment_->J_inv; }
+  const Mat6& leftJacobianInverseXi() const { return segment_->A1; }
+  const Mat6& dJrInvTimesVelDxi() const { return segment_->M; }
+  const Vec6& rightJacobianInverseTimesVelK1() const { return segment_->J_inv_w_k1; }
 
  private:
+  void init(const SE3& T_k, const Vec6& w_k, const SegmentTerms& segment, const InterpolationWeights& weights,
+            bool with_jacobians) {
+    segment_ = &segment;
+    weights_ = weights;
+    has_jacobians_ = with_jacobians && segment.with_jacobians;
+    xi_tau_ = weights.lambda12 * w_k + weights.psi11 * segment.xi + weights.psi12 * segment.J_inv_w_k1;
+    T_k_tau_ = lie::se3::exp(xi_tau_);
+    T_tau_ = T_k * T_k_tau_;
+    if (has_jacobians_) {
+      J_tau_ = lie::se3::rightJacobian(xi_tau_);
+      W_ = weights.psi12 * segment.M;
+      W_.diagonal().array() += weights.psi11;
+    }
+  }
+
+  std::optional<SegmentTerms> owned_;  ///< the terms, when this interpolator computed them
+  const SegmentTerms* segment_ = nullptr;
   InterpolationWeights weights_;
   bool has_jacobians_ = false;
-  Vec6 xi_;
-  Vec6 J_inv_w_k1_;
-  Mat6 J_inv_ = Mat6::Identity();
-  Mat6 A1_ = Mat6::Identity();
-  Mat6 M_ = Mat6::Zero();
   Vec6 xi_tau_;
   SE3 T_k_tau_;  // Exp(ξ_τ)
   SE3 T_tau_;

@@ -23,11 +23,16 @@ bool GpProjectionFactor::Evaluate(double const* const* parameters, double* resid
                                jacobians[2] != nullptr || jacobians[3] != nullptr || jacobians[4] != nullptr);
   const Eigen::Map<const gp::Vec6> w_k(parameters[1]);
   const lie::SE3 T_k = poseFromBlock(parameters[0]);
-  const gp::SegmentTerms segment =
-      cache_ ? cache_->terms(parameters[0], parameters[2], parameters[3], any_jacobian, series_order_)
-             : gp::segmentTerms(T_k, poseFromBlock(parameters[2]), Eigen::Map<const gp::Vec6>(parameters[3]),
-                                any_jacobian, series_order_);
-  const gp::PoseInterpolator interp(T_k, w_k, segment, weights_);
+  // The segment's terms: shared through the cache when there is one, else computed here.
+  std::shared_ptr<const gp::SegmentTerms> shared;
+  gp::SegmentTerms own;
+  if (cache_) {
+    shared = cache_->terms(parameters[0], parameters[2], parameters[3], any_jacobian, series_order_);
+  } else {
+    own = gp::segmentTerms(T_k, poseFromBlock(parameters[2]), Eigen::Map<const gp::Vec6>(parameters[3]), any_jacobian,
+                           series_order_);
+  }
+  const gp::PoseInterpolator interp(T_k, w_k, shared ? *shared : own, weights_, any_jacobian);
   const lie::SE3& T_tau = interp.pose();
   const Eigen::Map<const Eigen::Vector3d> p_w(parameters[4]);
   const Eigen::Matrix3d R_t = T_tau.rotation().transpose();

@@ -5,18 +5,21 @@
 #include <utility>
 
 #include "asynevo/backend/factors/pose_block.hpp"
+#include "asynevo/backend/pivoted_cholesky.hpp"
 #include "asynevo/lie/se3.hpp"
 
 namespace asynevo::backend {
 
-LinearPriorSqrt linearPriorFromInformation(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
-                                           double rel_threshold) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (H + H.transpose()));
+namespace {
+
+/// Square root from the eigen-decomposition H = V S Vᵀ (any symmetric H).
+LinearPriorSqrt sqrtByEigenvalues(const Eigen::MatrixXd& H_sym, const Eigen::VectorXd& b, double rel_threshold) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H_sym);
   const Eigen::VectorXd& s = eig.eigenvalues();  // ascending
   const double s_max = s.size() > 0 ? s.maxCoeff() : 0.0;
   LinearPriorSqrt out;
   if (!(s_max > 0.0)) {
-    out.J.resize(0, H.cols());
+    out.J.resize(0, H_sym.cols());
     out.r.resize(0);
     return out;
   }
@@ -28,6 +31,33 @@ LinearPriorSqrt linearPriorFromInformation(const Eigen::MatrixXd& H, const Eigen
   const Eigen::VectorXd sv = s.tail(out.rank);
   out.J = sv.cwiseSqrt().asDiagonal() * V.transpose();
   out.r = sv.cwiseSqrt().cwiseInverse().asDiagonal() * (V.transpose() * b);
+  return out;
+}
+
+}  // namespace
+
+LinearPriorSqrt linearPriorFromInformation(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
+                                           double rel_threshold) {
+  const Eigen::MatrixXd H_sym = 0.5 * (H + H.transpose());
+  const int n = static_cast<int>(H_sym.rows());
+  // Pivoted Cholesky Pᵀ H P = UᵀU (pivoted_cholesky.hpp): a window's prior is rank-deficient (no absolute
+  // pose or scale), and this finds its rank at a fraction of the eigen-decomposition's cost. With U_k the
+  // first k rows: J* = U_k Pᵀ, so J*ᵀJ* = P U_kᵀU_k Pᵀ ≈ H; r* from J*ᵀr* = b on the k pivot rows,
+  // U_k,kᵀ r* = (Pᵀb)_k (lower triangular).
+  const PivotedCholesky chol = pivotedCholesky(H_sym, rel_threshold);
+  if (!chol.ok) return sqrtByEigenvalues(H_sym, b, rel_threshold);
+  const int k = chol.rank;
+  LinearPriorSqrt out;
+  out.rank = k;
+  out.J.resize(k, n);
+  Eigen::VectorXd Ptb(k);
+  for (int j = 0; j < n; ++j) out.J.col(chol.piv[j]) = chol.U.col(j);
+  for (int j = 0; j < k; ++j) Ptb(j) = b(chol.piv[j]);
+  out.r = chol.U.leftCols(k).transpose().triangularView<Eigen::Lower>().solve(Ptb);
+  if (k == n) {  // exact: J*ᵀJ* = H and J*ᵀr* = b
+    out.information = H_sym;
+    out.gradient = b;
+  }
   return out;
 }
 
@@ -49,6 +79,17 @@ LinearPriorFactor::LinearPriorFactor(std::vector<LinearPriorBlock> blocks, Eigen
   set_num_residuals(static_cast<int>(r_.size()));
   information_.noalias() = J_.transpose() * J_;
   gradient_.noalias() = J_.transpose() * r_;
+}
+
+LinearPriorFactor::LinearPriorFactor(std::vector<LinearPriorBlock> blocks, LinearPriorSqrt sqrt_form)
+    : LinearPriorFactor(std::move(blocks), std::move(sqrt_form.J), std::move(sqrt_form.r)) {
+  if (sqrt_form.information.size() > 0) {
+    if (sqrt_form.information.rows() != J_.cols() || sqrt_form.information.cols() != J_.cols() ||
+        sqrt_form.gradient.size() != J_.cols())
+      throw std::invalid_argument("LinearPriorFactor: information and gradient must match J's columns");
+    information_ = std::move(sqrt_form.information);
+    gradient_ = std::move(sqrt_form.gradient);
+  }
 }
 
 void LinearPriorFactor::normalEquations(double const* const* parameters, Eigen::MatrixXd& H,

@@ -32,10 +32,16 @@ struct LinearPriorSqrt {
   Eigen::MatrixXd J;  // rank × n
   Eigen::VectorXd r;  // rank
   int rank = 0;
+  /// J*ᵀJ* and J*ᵀr* where they are the input H and b exactly (full rank); empty otherwise.
+  Eigen::MatrixXd information;
+  Eigen::VectorXd gradient;
 };
 
-/// Square-root form of the quadratic ½δᵀHδ + bᵀδ: H = V S Vᵀ, keep eigenvalues s > rel_threshold·s_max,
-/// J* = S^{1/2}Vᵀ, r* = S^{−1/2}Vᵀb (VINS-style eigen square root, relative threshold).
+/// Square-root form of the quadratic ½δᵀHδ + bᵀδ (H positive semi-definite). By Cholesky with complete
+/// pivoting (pivotedCholesky), Pᵀ H P = UᵀU up to the first pivot ≤ rel_threshold × max diag(H): with U_k
+/// the first k rows, J* = U_k Pᵀ and r* = U_kkᵀ⁻¹ (Pᵀb)_k. Should LAPACK fail, by the eigen-decomposition
+/// H = V S Vᵀ: keep s > rel_threshold·s_max, J* = S^{1/2}Vᵀ, r* = S^{−1/2}Vᵀb (VINS-style eigen square
+/// root). Either way ½|J*δ + r*|² equals the quadratic up to a constant on the kept directions.
 LinearPriorSqrt linearPriorFromInformation(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
                                            double rel_threshold = 1e-12);
 
@@ -44,6 +50,8 @@ class LinearPriorFactor final : public ceres::CostFunction {
   /// J has as many columns as the sum of the blocks' tangent sizes (in block order), r as many rows
   /// as J. The blocks' ambient sizes define the parameter block sizes.
   LinearPriorFactor(std::vector<LinearPriorBlock> blocks, Eigen::MatrixXd J, Eigen::VectorXd r);
+  /// From a square-root form; its information and gradient are used as J*ᵀJ* and J*ᵀr* when it has them.
+  LinearPriorFactor(std::vector<LinearPriorBlock> blocks, LinearPriorSqrt sqrt_form);
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
 

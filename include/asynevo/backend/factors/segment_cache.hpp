@@ -8,6 +8,7 @@
 // Thread-safe (Ceres may evaluate residual blocks on several threads).
 
 #include <array>
+#include <memory>
 #include <mutex>
 
 #include "asynevo/gp/interpolation.hpp"
@@ -17,8 +18,9 @@ namespace asynevo::backend {
 class SegmentCache {
  public:
   /// Terms at the given blocks (pose, pose, velocity: 7, 7, 6 doubles); with_jacobians as in
-  /// gp::segmentTerms (a cached entry without Jacobians is recomputed when they are asked for).
-  gp::SegmentTerms terms(const double* pose_k, const double* pose_k1, const double* vel_k1, bool with_jacobians,
+  /// gp::segmentTerms (a cached entry without Jacobians is recomputed when they are asked for). Shared,
+  /// not copied: an entry is never changed, a recomputation makes a new one.
+  std::shared_ptr<const gp::SegmentTerms> terms(const double* pose_k, const double* pose_k1, const double* vel_k1, bool with_jacobians,
                          int series_order);
 
   /// How often the terms were computed and how often they were reused (for tests and benchmarks).
@@ -31,7 +33,7 @@ class SegmentCache {
   bool valid_ = false;
   int series_order_ = 0;
   std::array<double, kKeySize> key_{};
-  gp::SegmentTerms terms_;
+  std::shared_ptr<const gp::SegmentTerms> terms_;
   uint64_t computed_ = 0;
   uint64_t reused_ = 0;
 };
