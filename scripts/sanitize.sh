@@ -32,7 +32,11 @@ generator=()
 command -v ninja >/dev/null && generator=(-G Ninja)
 # Warnings are enforced by the main build (scripts/setup.sh); the sanitizers change what GCC can prove
 # about initialization, so this build does not turn warnings into errors.
+# -O1 -g1 instead of RelWithDebInfo's -O2 -g: -O1 is what the ASan documentation recommends, and -g1 keeps
+# the line tables a report's stack needs but no variable info. Together they compile the backend's Eigen-heavy
+# files in 0.55x the time (factors_test.cpp: 160 s -> 87 s), the largest share of CI's time.
 cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DASYNEVO_SANITIZE=ON \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
   -DASYNEVO_BUILD_BENCH=OFF -DASYNEVO_WERROR=OFF >/dev/null
 mapfile -t replays < <(cd "$root/fuzz" && ls ./*_fuzz.cpp | sed 's|^\./||; s|_fuzz\.cpp$||')
 targets=(asynevo "${replays[@]/#/fuzz_replay_}")
