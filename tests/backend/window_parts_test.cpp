@@ -105,6 +105,49 @@ class LinearFactor final : public ceres::SizedCostFunction<3, 2, 2> {
   Eigen::Vector3d c_;
 };
 
+/// Two linear factors r1 = A1[x1; x2] − c1 and r2 = A2[x1; x3] − c2 (Euclidean 2-vectors), and their
+/// normal equations stacked over [x1; x2; x3] for the analytic marginalization of x1.
+struct TwoLinearFactors {
+  double x1[2] = {0.3, -0.1}, x2[2] = {1.0, 2.0}, x3[2] = {-0.5, 0.4};
+  Eigen::Matrix<double, 3, 4> A1, A2;
+  Eigen::Vector3d c1, c2;
+
+  TwoLinearFactors(const Eigen::Matrix<double, 3, 4>& a1, const Eigen::Matrix<double, 3, 4>& a2, const Eigen::Vector3d& k1,
+                   const Eigen::Vector3d& k2)
+      : A1(a1), A2(a2), c1(k1), c2(k2) {}
+
+  MarginalizationResult marginalizeX1() {
+    FactorEntry f1{std::make_shared<LinearFactor>(A1, c1), nullptr, {x1, x2}};
+    FactorEntry f2{std::make_shared<LinearFactor>(A2, c2), nullptr, {x1, x3}};
+    const std::map<double*, BlockKind> kinds = {{x1, BlockKind::kEuclidean}, {x2, BlockKind::kEuclidean}, {x3, BlockKind::kEuclidean}};
+    return marginalize({&f1, &f2}, {x1}, kinds);
+  }
+
+  /// H = JᵀJ and b = Jᵀr of both factors over [x1; x2; x3].
+  void normalEquations(Eigen::Matrix<double, 6, 6>& H, Eigen::Matrix<double, 6, 1>& b) const {
+    Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Zero();
+    J.block<3, 2>(0, 0) = A1.leftCols<2>();
+    J.block<3, 2>(0, 2) = A1.rightCols<2>();
+    J.block<3, 2>(3, 0) = A2.leftCols<2>();
+    J.block<3, 2>(3, 4) = A2.rightCols<2>();
+    Eigen::Matrix<double, 6, 1> r;
+    r << A1 * Eigen::Vector4d(x1[0], x1[1], x2[0], x2[1]) - c1, A2 * Eigen::Vector4d(x1[0], x1[1], x3[0], x3[1]) - c2;
+    H = J.transpose() * J;
+    b = J.transpose() * r;
+  }
+
+  /// The prior of `result` equals the Schur complement of x1 with H_mm⁺ = `H_mm_inverse`.
+  void expectPriorIsTheReduction(const MarginalizationResult& result, const Eigen::Matrix2d& H_mm_inverse,
+                                 const Eigen::Matrix<double, 6, 6>& H, const Eigen::Matrix<double, 6, 1>& b) const {
+    const Eigen::Matrix4d H_star = H.bottomRightCorner<4, 4>() - H.bottomLeftCorner<4, 2>() * H_mm_inverse * H.topRightCorner<2, 4>();
+    const Eigen::Vector4d b_star = b.tail<4>() - H.bottomLeftCorner<4, 2>() * H_mm_inverse * b.head<2>();
+    const Eigen::MatrixXd& Jp = result.prior->jacobian();
+    const Eigen::VectorXd& rp = result.prior->residual();
+    EXPECT_LT((Jp.transpose() * Jp - H_star).norm(), 1e-9 * H_star.norm());
+    EXPECT_LT((Jp.transpose() * rp - b_star).norm(), 1e-9 * (1 + b_star.norm()));
+  }
+};
+
 TEST(Marginalization, SchurPriorEqualsTheAnalyticReductionOnALinearProblem) {
   std::mt19937 rng(1);
   std::normal_distribution<double> n(0, 1);
@@ -112,35 +155,20 @@ TEST(Marginalization, SchurPriorEqualsTheAnalyticReductionOnALinearProblem) {
     for (int i = 0; i < m.size(); ++i) m.data()[i] = n(rng);
     return m;
   };
-  double x1[2] = {0.3, -0.1}, x2[2] = {1.0, 2.0}, x3[2] = {-0.5, 0.4};
   const Eigen::Matrix<double, 3, 4> A1 = random(Eigen::Matrix<double, 3, 4>()), A2 = random(Eigen::Matrix<double, 3, 4>());
   const Eigen::Vector3d c1 = random(Eigen::Vector3d()), c2 = random(Eigen::Vector3d());
-  FactorEntry f1{std::make_shared<LinearFactor>(A1, c1), nullptr, {x1, x2}};
-  FactorEntry f2{std::make_shared<LinearFactor>(A2, c2), nullptr, {x1, x3}};
-  const std::map<double*, BlockKind> kinds = {{x1, BlockKind::kEuclidean}, {x2, BlockKind::kEuclidean}, {x3, BlockKind::kEuclidean}};
-  const MarginalizationResult result = marginalize({&f1, &f2}, {x1}, kinds);
+  TwoLinearFactors problem(A1, A2, c1, c2);
+  const MarginalizationResult result = problem.marginalizeX1();
   ASSERT_TRUE(result.prior);
-  ASSERT_EQ(result.prior_blocks, (std::vector<double*>{x2, x3}));
+  ASSERT_EQ(result.prior_blocks, (std::vector<double*>{problem.x2, problem.x3}));
   EXPECT_EQ(result.marginalized_dims, 2);
   EXPECT_EQ(result.kept_dims, 4);
   EXPECT_EQ(result.rank_mm, 2);
-
   // Analytic: stack both factors over [x1; x2; x3] and eliminate x1.
-  Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Zero();
-  J.block<3, 2>(0, 0) = A1.leftCols<2>();
-  J.block<3, 2>(0, 2) = A1.rightCols<2>();
-  J.block<3, 2>(3, 0) = A2.leftCols<2>();
-  J.block<3, 2>(3, 4) = A2.rightCols<2>();
-  Eigen::Matrix<double, 6, 1> r;
-  r << A1 * Eigen::Vector4d(x1[0], x1[1], x2[0], x2[1]) - c1, A2 * Eigen::Vector4d(x1[0], x1[1], x3[0], x3[1]) - c2;
-  const Eigen::Matrix<double, 6, 6> H = J.transpose() * J;
-  const Eigen::Matrix<double, 6, 1> b = J.transpose() * r;
-  const Eigen::Matrix4d H_star = H.bottomRightCorner<4, 4>() - H.bottomLeftCorner<4, 2>() * H.topLeftCorner<2, 2>().inverse() * H.topRightCorner<2, 4>();
-  const Eigen::Vector4d b_star = b.tail<4>() - H.bottomLeftCorner<4, 2>() * H.topLeftCorner<2, 2>().inverse() * b.head<2>();
-  const Eigen::MatrixXd& Jp = result.prior->jacobian();
-  const Eigen::VectorXd& rp = result.prior->residual();
-  EXPECT_LT((Jp.transpose() * Jp - H_star).norm(), 1e-9 * H_star.norm());
-  EXPECT_LT((Jp.transpose() * rp - b_star).norm(), 1e-9 * (1 + b_star.norm()));
+  Eigen::Matrix<double, 6, 6> H;
+  Eigen::Matrix<double, 6, 1> b;
+  problem.normalEquations(H, b);
+  problem.expectPriorIsTheReduction(result, H.topLeftCorner<2, 2>().inverse(), H, b);
 }
 
 TEST(Marginalization, RankDeficientMarginalizedBlockIsEliminatedByItsPseudoInverse) {
@@ -152,32 +180,16 @@ TEST(Marginalization, RankDeficientMarginalizedBlockIsEliminatedByItsPseudoInver
   for (int i = 0; i < 12; ++i) A1(i) = n(rng), A2(i) = n(rng);
   A1.col(1).setZero();
   A2.col(1).setZero();
-  const Eigen::Vector3d c1(0.5, -1.0, 2.0), c2(1.0, 0.0, -0.5);
-  double x1[2] = {0.3, -0.1}, x2[2] = {1.0, 2.0}, x3[2] = {-0.5, 0.4};
-  FactorEntry f1{std::make_shared<LinearFactor>(A1, c1), nullptr, {x1, x2}};
-  FactorEntry f2{std::make_shared<LinearFactor>(A2, c2), nullptr, {x1, x3}};
-  const std::map<double*, BlockKind> kinds = {{x1, BlockKind::kEuclidean}, {x2, BlockKind::kEuclidean}, {x3, BlockKind::kEuclidean}};
-  const MarginalizationResult result = marginalize({&f1, &f2}, {x1}, kinds);
+  TwoLinearFactors problem(A1, A2, Eigen::Vector3d(0.5, -1.0, 2.0), Eigen::Vector3d(1.0, 0.0, -0.5));
+  const MarginalizationResult result = problem.marginalizeX1();
   ASSERT_TRUE(result.prior);
   EXPECT_EQ(result.rank_mm, 1);
-
-  Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Zero();
-  J.block<3, 2>(0, 0) = A1.leftCols<2>();
-  J.block<3, 2>(0, 2) = A1.rightCols<2>();
-  J.block<3, 2>(3, 0) = A2.leftCols<2>();
-  J.block<3, 2>(3, 4) = A2.rightCols<2>();
-  Eigen::Matrix<double, 6, 1> r;
-  r << A1 * Eigen::Vector4d(x1[0], x1[1], x2[0], x2[1]) - c1, A2 * Eigen::Vector4d(x1[0], x1[1], x3[0], x3[1]) - c2;
-  const Eigen::Matrix<double, 6, 6> H = J.transpose() * J;
-  const Eigen::Matrix<double, 6, 1> b = J.transpose() * r;
+  Eigen::Matrix<double, 6, 6> H;
+  Eigen::Matrix<double, 6, 1> b;
+  problem.normalEquations(H, b);
   Eigen::Matrix2d H_mm_pinv = Eigen::Matrix2d::Zero();
   H_mm_pinv(0, 0) = 1.0 / H(0, 0);
-  const Eigen::Matrix4d H_star = H.bottomRightCorner<4, 4>() - H.bottomLeftCorner<4, 2>() * H_mm_pinv * H.topRightCorner<2, 4>();
-  const Eigen::Vector4d b_star = b.tail<4>() - H.bottomLeftCorner<4, 2>() * H_mm_pinv * b.head<2>();
-  const Eigen::MatrixXd& Jp = result.prior->jacobian();
-  const Eigen::VectorXd& rp = result.prior->residual();
-  EXPECT_LT((Jp.transpose() * Jp - H_star).norm(), 1e-9 * H_star.norm());
-  EXPECT_LT((Jp.transpose() * rp - b_star).norm(), 1e-9 * (1 + b_star.norm()));
+  problem.expectPriorIsTheReduction(result, H_mm_pinv, H, b);
 }
 
 TEST(Linearize, HuberCorrectionScalesAnOutlierResidual) {
