@@ -20,8 +20,8 @@ class SegmentCache {
   /// Terms at the given blocks (pose, pose, velocity: 7, 7, 6 doubles); with_jacobians as in
   /// gp::segmentTerms (a cached entry without Jacobians is recomputed when they are asked for). Shared,
   /// not copied: an entry is never changed, a recomputation makes a new one.
-  std::shared_ptr<const gp::SegmentTerms> terms(const double* pose_k, const double* pose_k1, const double* vel_k1, bool with_jacobians,
-                         int series_order);
+  std::shared_ptr<const gp::SegmentTerms> terms(const double* pose_k, const double* pose_k1, const double* vel_k1,
+                                                bool with_jacobians, int series_order);
 
   /// How often the terms were computed and how often they were reused (for tests and benchmarks).
   uint64_t computed() const { return computed_; }
@@ -30,10 +30,9 @@ class SegmentCache {
  private:
   static constexpr int kKeySize = 7 + 7 + 6;
   std::mutex mutex_;
-  bool valid_ = false;
   int series_order_ = 0;
   std::array<double, kKeySize> key_{};
-  std::shared_ptr<const gp::SegmentTerms> terms_;
+  std::shared_ptr<const gp::SegmentTerms> terms_;  ///< null until the first call
   uint64_t computed_ = 0;
   uint64_t reused_ = 0;
 };
