@@ -153,13 +153,18 @@ bool SlidingWindowEstimator::relaxed(int64_t t_ns) const {
 
 BackendConfig SlidingWindowEstimator::initConfig(int64_t t_ns) const {
   BackendConfig config = options_.config;
-  const double waited_ms = durationSeconds(first_measurement_ns_, t_ns) * 1e3;
-  const double again_ms = config.init_relax_again_after_ms;
-  const int times = relaxed(t_ns) ? (again_ms > 0 && waited_ms >= again_ms ? 2 : 1) : 0;
+  const int times = relaxed(t_ns) ? (relaxed_again_ ? 2 : 1) : 0;
   const double fraction = std::pow(config.init_relaxed_fraction, times);
   config.init_min_features = static_cast<int>(std::ceil(config.init_min_features * fraction));
   config.init_min_inliers = static_cast<int>(std::ceil(config.init_min_inliers * fraction));
   return config;
+}
+
+void SlidingWindowEstimator::updateRelaxedAgain(int64_t t_ns) {
+  const double again_ms = options_.config.init_relax_again_after_ms;
+  if (relaxed_again_ || !(again_ms > 0) || durationSeconds(first_measurement_ns_, t_ns) * 1e3 < again_ms) return;
+  relaxed_again_ = relaxed_feature_rejections_ > relaxed_other_rejections_;
+  if (relaxed_again_) ++stats_.init_relaxed_again;
 }
 
 bool SlidingWindowEstimator::agreesWithPreviousAttempt(const InitResult& motion) {
@@ -189,10 +194,12 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   }
   // The second view lags event time by one knot interval: the newest measurements of most features are
   // a little older than the newest event (tracker windows, min_dt), and both views need every feature.
+  updateRelaxedAgain(t_ns);
   const BackendConfig config = initConfig(t_ns);
   const InitResult motion =
       findInitialMotion(std::max(first_measurement_ns_, horizon), t_ns - knot_dt_ns_, config, relaxed(t_ns));
   if (!motion.ok) {
+    if (relaxed(t_ns)) ++(motion.rejection == InitRejection::Features ? relaxed_feature_rejections_ : relaxed_other_rejections_);
     previous_start_motion_.reset();
     stats_.init_last_failure = motion.failure;
     ++stats_.init_rejections[static_cast<int>(motion.rejection)];
@@ -438,6 +445,8 @@ void SlidingWindowEstimator::restartInitialization(int64_t reset_ns) {
   first_measurement_ns_ = -1;
   last_init_attempt_ns_.reset();
   previous_start_motion_.reset();
+  relaxed_feature_rejections_ = relaxed_other_rejections_ = 0;
+  relaxed_again_ = false;
   reset_ns_ = reset_ns;
 }
 

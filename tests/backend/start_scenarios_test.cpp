@@ -67,6 +67,9 @@ TEST(StartScenarios, TwoSecondsOfStaticCameraWaitForMotionThenStartWithinHalfASe
   // No start from a standing camera: the waiting attempts stopped at the motion check.
   EXPECT_GT(run.stats.initialized_at_ns, std::llround(still * 1e9));
   EXPECT_GT(run.stats.init_rejections[static_cast<int>(InitRejection::Motion)], 20u);
+  // A scene with its features, waiting for motion, keeps the once-relaxed counts past
+  // init_relax_again_after_ms: the second relaxation is for scenes short of features.
+  EXPECT_EQ(run.stats.init_relaxed_again, 0u);
   // Started within 0.5 s of the motion's onset, plus one knot interval of measurement lag (measured:
   // 0.25 s after it, 42 attempts stopped at the motion check, ATE 1.05 % of the path).
   EXPECT_LE(run.stats.initialized_at_ns, std::llround((still + 0.55) * 1e9));
@@ -244,6 +247,8 @@ TEST(StartScenarios, ASceneWithTooFewFeaturesForTheRelaxedCountsStartsOnceRelaxe
   EXPECT_FALSE(once.stats.initialized) << once.stats.init_last_failure;
   EXPECT_GT(once.stats.init_rejections[static_cast<int>(InitRejection::Features)], 0u);
   ASSERT_TRUE(twice.stats.initialized) << twice.stats.init_last_failure;
+  EXPECT_EQ(once.stats.init_relaxed_again, 0u);
+  EXPECT_EQ(twice.stats.init_relaxed_again, 1u);
   // Not before the second relaxation, and soon after it (measured: 1.33 s, ATE 1.4 % of the path).
   EXPECT_GE(twice.stats.initialized_at_ns, 1'000'000'000);
   EXPECT_LE(twice.stats.initialized_at_ns, 1'500'000'000);

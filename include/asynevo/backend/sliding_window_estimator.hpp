@@ -99,8 +99,14 @@ class SlidingWindowEstimator : public Estimator {
   /// motion for the next attempt; on disagreement records the failure.
   bool agreesWithPreviousAttempt(const InitResult& motion);
   /// The configuration of an initialization attempt at t_ns: the counts relaxed once attempts have
-  /// failed for init_relax_after_ms.
+  /// failed for init_relax_after_ms, and once more after init_relax_again_after_ms in a scene short of
+  /// features (relaxed_again_).
   BackendConfig initConfig(int64_t t_ns) const;
+  /// Grants the second relaxation of the counts: attempts have failed for init_relax_again_after_ms, and
+  /// more of the once-relaxed attempts failed for lack of features than for anything else. A scene that
+  /// has the features but waits for parallax (a rotation-dominated start) keeps the once-relaxed counts,
+  /// whose parallax bound the multi-view start scales with.
+  void updateRelaxedAgain(int64_t t_ns);
   /// Attempts have failed for init_relax_after_ms of event time since the first measurement.
   bool relaxed(int64_t t_ns) const;
   /// The motion over the initialization window by config.init_method: two-view, multi-view, or both
@@ -189,6 +195,10 @@ class SlidingWindowEstimator : public Estimator {
   double segment_depth_ = 0;        ///< median landmark depth at the segment's start (0: not yet known)
   double last_median_residual_px_ = 0;  ///< of the window's measurements after the latest solve
   std::optional<int64_t> last_init_attempt_ns_;
+  /// Rejections of the once-relaxed attempts: for lack of features, and for any other reason.
+  int relaxed_feature_rejections_ = 0;
+  int relaxed_other_rejections_ = 0;
+  bool relaxed_again_ = false;  ///< the second relaxation is granted (until the next restart)
   /// The motion the previous attempt found, when it found one (init_agreement_deg).
   std::optional<InitResult> previous_start_motion_;
   int64_t last_event_ns_ = 0;

@@ -77,9 +77,10 @@ struct BackendConfig {
   /// for 30 at both ends still starts, and one that has them keeps the stricter start.
   double init_relax_after_ms = 250.0;
   double init_relaxed_fraction = 0.5;
-  /// Attempts still failing this long after the first measurement (event time): the counts are
-  /// multiplied by init_relaxed_fraction once more, for scenes with very few features. 0 = never.
-  double init_relax_again_after_ms = 1000.0;
+  /// Attempts still failing this long after the first measurement (event time), most of the once-relaxed
+  /// ones for lack of features: the counts are multiplied by init_relaxed_fraction once more, for scenes
+  /// with very few features (a scene that has them and waits for parallax keeps its counts). 0 = never.
+  double init_relax_again_after_ms = 500.0;
   /// Which start is tried: "two-view" (two times, five-point RANSAC), "multi-view" (one constant twist
   /// fitted to every track of the window) or "both" (two-view first; once the counts are relaxed,
   /// multi-view when it fails).
@@ -157,7 +158,7 @@ struct BackendConfig {
       "initialization: factor on init_min_features and init_min_inliers once relaxed (1 = never relax)");
     v("init_relax_again_after_ms", init_relax_again_after_ms,
       "initialization: event time of failed attempts after which the counts are relaxed by "
-      "init_relaxed_fraction once more [ms] (0 = never)");
+      "init_relaxed_fraction once more, when most once-relaxed attempts lacked features [ms] (0 = never)");
     v("init_method", init_method, "initialization: two-view, multi-view or both (two-view first, multi-view once relaxed)");
     v("init_refine_rotations", init_refine_rotations,
       "initialization: refit the first knots' rotations to the tracks when too few landmarks triangulate");
