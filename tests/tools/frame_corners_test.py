@@ -10,16 +10,9 @@ import tempfile
 import numpy as np
 from skimage.io import imsave
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
-import frame_corners  # noqa: E402
+from tool_checks import check, exit_code
 
-failures = []
-
-
-def check(condition, what):
-    print(("ok      " if condition else "FAILED  ") + what)
-    if not condition:
-        failures.append(what)
+import frame_corners  # noqa: E402  (tools/, put on the path by tool_checks)
 
 
 def squares(positions, size=20, shape=(180, 240)):
@@ -52,7 +45,4 @@ with tempfile.TemporaryDirectory() as folder:
     except SystemExit as e:
         check("images.txt: no such file" in str(e), "a folder without images.txt: the error names the file")
 
-if failures:
-    print(f"{len(failures)} check(s) failed")
-    sys.exit(1)
-print("all checks passed")
+sys.exit(exit_code())
