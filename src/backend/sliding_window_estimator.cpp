@@ -199,7 +199,10 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   const InitResult motion =
       findInitialMotion(std::max(first_measurement_ns_, horizon), t_ns - knot_dt_ns_, config, relaxed(t_ns));
   if (!motion.ok) {
-    if (relaxed(t_ns)) ++(motion.rejection == InitRejection::Features ? relaxed_feature_rejections_ : relaxed_other_rejections_);
+    if (relaxed(t_ns)) {
+      int& count = motion.rejection == InitRejection::Features ? relaxed_feature_rejections_ : relaxed_other_rejections_;
+      ++count;
+    }
     previous_start_motion_.reset();
     stats_.init_last_failure = motion.failure;
     ++stats_.init_rejections[static_cast<int>(motion.rejection)];
