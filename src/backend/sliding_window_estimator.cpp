@@ -162,7 +162,8 @@ BackendConfig SlidingWindowEstimator::initConfig(int64_t t_ns) const {
 
 void SlidingWindowEstimator::updateRelaxedAgain(int64_t t_ns) {
   const double again_ms = options_.config.init_relax_again_after_ms;
-  if (relaxed_again_ || !(again_ms > 0) || durationSeconds(first_measurement_ns_, t_ns) * 1e3 < again_ms) return;
+  const double waited_ms = durationSeconds(first_measurement_ns_, t_ns) * 1e3;
+  if (relaxed_again_ || !(again_ms > 0) || waited_ms < again_ms) return;
   relaxed_again_ = relaxed_feature_rejections_ > relaxed_other_rejections_;
   if (relaxed_again_) ++stats_.init_relaxed_again;
 }
@@ -200,8 +201,8 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
       findInitialMotion(std::max(first_measurement_ns_, horizon), t_ns - knot_dt_ns_, config, relaxed(t_ns));
   if (!motion.ok) {
     if (relaxed(t_ns)) {
-      int& count = motion.rejection == InitRejection::Features ? relaxed_feature_rejections_ : relaxed_other_rejections_;
-      ++count;
+      const bool features = motion.rejection == InitRejection::Features;
+      ++(features ? relaxed_feature_rejections_ : relaxed_other_rejections_);
     }
     previous_start_motion_.reset();
     stats_.init_last_failure = motion.failure;
