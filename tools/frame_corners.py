@@ -30,10 +30,11 @@ from skimage.io import imread
 def count_corners(image, min_distance, border, rel):
     """Corners of one grey image (2-D array, any scale) at the given spacing and border."""
     response = corner_shi_tomasi(np.asarray(image, dtype=float), sigma=1.5)
-    top = response.max()
-    if not top > 0:
+    if not response.max() > 0:
         return 0
-    # Candidates: local maxima over a 5x5 neighbourhood; the spacing is enforced greedily below.
+    # Candidates: local maxima over a 5x5 neighbourhood. The spacing is enforced greedily below, by
+    # Euclidean distance as the frontend's patch search does: corner_peaks' own min_distance first
+    # suppresses every weaker peak in a square around a stronger one.
     peaks = corner_peaks(response, min_distance=2, threshold_rel=rel, exclude_border=border)
     strengths = response[peaks[:, 0], peaks[:, 1]]
     kept = []

@@ -197,10 +197,11 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   // a little older than the newest event (tracker windows, min_dt), and both views need every feature.
   updateRelaxedAgain(t_ns);
   const BackendConfig config = initConfig(t_ns);
+  const bool relaxed_counts = relaxed(t_ns);
   const InitResult motion =
-      findInitialMotion(std::max(first_measurement_ns_, horizon), t_ns - knot_dt_ns_, config, relaxed(t_ns));
+      findInitialMotion(std::max(first_measurement_ns_, horizon), t_ns - knot_dt_ns_, config, relaxed_counts);
   if (!motion.ok) {
-    if (relaxed(t_ns)) {
+    if (relaxed_counts) {
       const bool features = motion.rejection == InitRejection::Features;
       ++(features ? relaxed_feature_rejections_ : relaxed_other_rejections_);
     }
