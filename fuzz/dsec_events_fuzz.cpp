@@ -4,6 +4,6 @@
 #include "hdf5_harness.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  asynevo::fuzz::shortenHdf5ChildTime();
+  asynevo::fuzz::configureHdf5Isolation();
   return asynevo::fuzz::fuzzEventReader(data, size, "dsec", ".h5", 640, 480);
 }

@@ -5,7 +5,7 @@
 #include "io/dsec_rectify.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  asynevo::fuzz::shortenHdf5ChildTime();
+  asynevo::fuzz::configureHdf5Isolation();
   constexpr int kWidth = 8, kHeight = 6;
   const asynevo::fuzz::InputFile input(data, size, ".h5");
   asynevo::fuzz::rejectCleanly([&] {

@@ -3,6 +3,6 @@
 #include "hdf5_harness.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  asynevo::fuzz::shortenHdf5ChildTime();
+  asynevo::fuzz::configureHdf5Isolation();
   return asynevo::fuzz::fuzzEventReader(data, size, "mvsec", ".hdf5");
 }

@@ -4,7 +4,7 @@
 #include "hdf5_harness.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  asynevo::fuzz::shortenHdf5ChildTime();
+  asynevo::fuzz::configureHdf5Isolation();
   using namespace asynevo::fuzz;
   const InputFile input(data, size, ".hdf5");
   rejectCleanly([&] { requireValidTrajectory(asynevo::readMvsecGroundTruth(input.path())); });

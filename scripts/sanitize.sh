@@ -52,7 +52,7 @@ rm -rf "$logs" && mkdir -p "$logs"
 # libhdf5 (not ours) leaks and asks for sizes read from a corrupt file when it fails to open one
 # (fuzz/lsan.supp, docs/reliability.md): its leaks are suppressed by library name, and ASan returns NULL
 # for an impossible size as the real malloc does, so HDF5 fails cleanly and the reader reports it.
-# fast_unwind_on_malloc=0: see scripts/fuzz.sh (the Blosc plugin's leak, suppressed through its libhdf5 frames).
+# fast_unwind_on_malloc=0: the Blosc plugin's leak, suppressed through its libhdf5 frames (fuzz/lsan.supp).
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:allocator_may_return_null=1:fast_unwind_on_malloc=0:log_path=$logs/report"
 export LSAN_OPTIONS="suppressions=$root/fuzz/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:log_path=$logs/report"

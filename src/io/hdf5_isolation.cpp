@@ -74,6 +74,7 @@ void parseHdf5InChild(const std::string& path, const std::function<void()>& pars
     parse();
     return;
   }
+  if (!limits.fork) return;  // unguarded: the caller's own parse is the file's only one
   const uint64_t resident_at_fork = residentBytes(getpid());
   // The child holds the write end of a pipe it never writes: its end closes the pipe and wakes the
   // parent at once, which otherwise looks at the child's memory and time every few milliseconds.

@@ -24,6 +24,10 @@ bool hasHdf5Signature(const std::string& path);
 struct Hdf5ChildLimits {
   uint64_t max_resident_bytes = uint64_t{1} << 30;  ///< the child is stopped beyond this growth
   double max_seconds = 30.0;                        ///< and after this long
+  /// false: no child and no check, so the caller's own parse meets the file unguarded. Only for a fuzzing
+  /// harness, whose fuzzer must see every fault, libhdf5's and the reader's alike (scripts/fuzz.sh sorts
+  /// them afterwards).
+  bool fork = true;
 };
 
 /// The limits parseHdf5InChild applies unless given others (a fuzzing harness shortens the time: under

@@ -75,6 +75,19 @@ TEST(Hdf5Isolation, AChildPastItsMemoryOrTimeLimitIsStopped) {
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
 }
 
+TEST(Hdf5Isolation, UnguardedThereIsNoCheckAndTheCallerParsesAlone) {
+  // A fuzzing harness's setting (fuzz/hdf5_harness.hpp): a parse that would crash is not even run.
+  Hdf5ChildLimits limits;
+  limits.fork = false;
+  int runs = 0;
+  EXPECT_NO_THROW(parseHdf5InChild("file.h5", [&] { ++runs; raise(SIGSEGV); }, limits));
+  EXPECT_EQ(runs, 0);
+  EXPECT_FALSE(insideHdf5Child());
+  // Guarded, the same parse is a located error.
+  EXPECT_NE(errorOf([] { parseHdf5InChild("file.h5", [] { raise(SIGSEGV); }); }).find("file.h5"),
+            std::string::npos);
+}
+
 TEST(Hdf5Isolation, InsideAChildNestedChecksRunInPlace) {
   // A DSEC reader opens its rectification map while the child checks the events file: no second fork.
   EXPECT_NO_THROW(parseHdf5InChild("outer.h5", [] {
