@@ -46,9 +46,19 @@ void checkChunksAllocated(const std::string& path, hid_t dataset, const std::str
   hsize_t chunk[1] = {0};
   if (H5Pget_chunk(create.get(), 1, chunk) != 1 || chunk[0] == 0)
     throw InputError(path, fmt::format("dataset '{}' has no valid chunk size (corrupt file?)", name));
+  // HDF5 creates no chunk larger than a fixed-size dataset. A corrupt layout message can declare one: a
+  // compressed chunk then decompresses to fewer bytes than libhdf5 1.10 copies out of it (a heap over-read
+  // in H5Dread, found 2026-11-27 by the dsec_events fuzz harness, on a packet after the first).
+  const H5Space space(H5Dget_space(dataset));  // libhdf5 1.10 counts nothing with H5S_ALL
+  hsize_t max_length[1] = {0};
+  if (!space.valid() || H5Sget_simple_extent_dims(space.get(), nullptr, max_length) != 1 ||
+      (max_length[0] != H5S_UNLIMITED && chunk[0] > max_length[0])) {
+    throw InputError(path, fmt::format("dataset '{}' declares chunks of {} values, more than its fixed size of {} "
+                                       "values (corrupt layout?)",
+                                       name, chunk[0], max_length[0]));
+  }
   const uint64_t expected = length / chunk[0] + (length % chunk[0] != 0 ? 1 : 0);
   hsize_t stored = 0;
-  const H5Space space(H5Dget_space(dataset));  // libhdf5 1.10 counts nothing with H5S_ALL
   if (!space.valid() || H5Dget_num_chunks(dataset, space.get(), &stored) < 0 || stored < expected) {
     throw InputError(path, fmt::format("dataset '{}' declares {} values in {} chunks of {} but stores {} chunks "
                                        "(truncated or corrupt file?)",

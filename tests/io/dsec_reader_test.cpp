@@ -252,6 +252,18 @@ TEST(DsecReader, CompressedDatasetWithUnstoredChunksIsRejected) {
                                            "chunks (truncated or corrupt file?)");
 }
 
+// Found by the dsec_events fuzz harness (2026-11-27): a corrupt layout message declares chunks far larger than
+// the fixed-size Blosc-compressed dataset; libhdf5 1.10 read past the decompressed chunk on a later packet.
+TEST(DsecReader, AChunkLargerThanAFixedSizeDatasetIsRejected) {
+  const std::string corpus = std::string(ASYNEVO_FUZZ_CORPUS_DIR) + "/dsec_events/";
+  const std::string x = corpus + "regress_chunk_larger_than_dataset_x.h5";
+  EXPECT_EQ(testing::errorOf(x, vga()), x + ": dataset 'events/x' declares chunks of 1207960552 values, more than "
+                                            "its fixed size of 2000 values (corrupt layout?)");
+  const std::string p = corpus + "regress_chunk_larger_than_dataset_p.h5";
+  EXPECT_EQ(testing::errorOf(p, vga()), p + ": dataset 'events/p' declares chunks of 3774874600 values, more than "
+                                            "its fixed size of 2000 values (corrupt layout?)");
+}
+
 // A dataset compressed with a filter this HDF5 library cannot load: the message names the remedy. The filter
 // is registered only to write the file, then unregistered (plugin loading off, so it stays unavailable).
 std::size_t identityFilter(unsigned, std::size_t, const unsigned[], std::size_t nbytes, std::size_t*, void**) {
