@@ -28,7 +28,8 @@ import sys
 # "#3 0x7f.. in H5Dread (/lib/x86_64-linux-gnu/libhdf5_serial.so.103+0xc7f74)",
 # "#8 0x56.. in asynevo::...::readSlab(...) /work/main/src/io/dsec_reader.cpp:112:10",
 # "#2 0x7f..  (/lib/x86_64-linux-gnu/libhdf5_serial.so.103+0xb22b7)" (a symbol-less frame).
-FRAME = re.compile(r"^\s*#(\d+) 0x[0-9a-f]+ (?:in (.*?) )?\s*(\((?P<module>[^()]*?)\+0x[0-9a-f]+\)|(?P<file>\S+:\d+(?::\d+)?))")
+FRAME = re.compile(r"^\s*#(\d+) 0x[0-9a-f]+ (?:in (.*?) )?\s*"
+                   r"(\((?P<module>[^()]*?)\+0x[0-9a-f]+\)|(?P<file>\S+:\d+(?::\d+)?))")
 
 # Frames of the machinery that reports a fault, not of the code that caused it.
 MACHINERY_FUNCTIONS = re.compile(
@@ -36,7 +37,8 @@ MACHINERY_FUNCTIONS = re.compile(
     r"malloc|calloc|realloc|free|operator new|operator delete|posix_memalign|aligned_alloc|"
     r"__libc_|abort|raise|gsignal|__pthread_kill|__mem|__str|__wmem)")
 # The C runtime's own frames, by library or (when it has line tables) by glibc's source folders.
-MACHINERY_MODULES = re.compile(r"/(libc\.so|libstdc\+\+\.so|libgcc_s\.so|libm\.so|ld-linux)|^(string|sysdeps)/")
+MACHINERY_MODULES = re.compile(r"/(libc\.so|libstdc\+\+\.so|libgcc_s\.so|libm\.so|ld-linux)|"
+                               r"^(string|sysdeps)/")
 # libhdf5 and the filter plugins and compression libraries it loads for a file.
 HDF5_MODULES = re.compile(r"/(libhdf5[^/]*\.so|libH5Z[^/]*\.so|libh5[^/]*\.so|libblosc[^/]*\.so|"
                           r"libblosc_filter\.so|liblz4\.so|libbz2\.so|libz\.so|libzstd\.so|libsz\.so|"
@@ -72,7 +74,8 @@ def culprit(frames):
 def kind_of(report):
     """The fault a report describes, in a few words."""
     for pattern in (r"ERROR: AddressSanitizer: ([\w-]+)", r"ERROR: LeakSanitizer: (detected memory leaks)",
-                    r"ERROR: libFuzzer: (out-of-memory \((?:[^()]|\([^()]*\))*\))", r"ERROR: libFuzzer: (timeout)",
+                    r"ERROR: libFuzzer: (out-of-memory \((?:[^()]|\([^()]*\))*\))",
+                    r"ERROR: libFuzzer: (timeout)",
                     r"(runtime error: [^\n]*)", r"ERROR: libFuzzer: ([\w-]+)"):
         m = re.search(pattern, report)
         if m:
