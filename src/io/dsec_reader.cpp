@@ -59,7 +59,7 @@ void checkChunksAllocated(const std::string& path, hid_t dataset, const std::str
   }
   const uint64_t expected = length / chunk[0] + (length % chunk[0] != 0 ? 1 : 0);
   hsize_t stored = 0;
-  if (!space.valid() || H5Dget_num_chunks(dataset, space.get(), &stored) < 0 || stored < expected) {
+  if (H5Dget_num_chunks(dataset, space.get(), &stored) < 0 || stored < expected) {
     throw InputError(path, fmt::format("dataset '{}' declares {} values in {} chunks of {} but stores {} chunks "
                                        "(truncated or corrupt file?)",
                                        name, length, expected, chunk[0], stored));
