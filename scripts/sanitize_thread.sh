@@ -20,6 +20,9 @@ tests=(
   "test_cli:RunEndToEnd.FiveTimesFasterThanRealTimeEndsNormallyAndReportsTheLag"
   # The event simulator's worker threads (rows split over threads); its other tests are single-threaded.
   "test_sim:EventSimulator.ResultDoesNotDependOnThreadsAndFollowsTheSeed"
+  # The builtin window solver's factor evaluation on several threads (backend.solver_threads > 1), the
+  # projections of a knot interval sharing its segment cache.
+  "test_backend:WindowSolverTest.FactorsEvaluatedOnSeveralThreads*"
 )
 
 generator=()

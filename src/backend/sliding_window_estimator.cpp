@@ -611,6 +611,7 @@ std::pair<int, double> SlidingWindowEstimator::solve(int max_iterations) {
   solver_options.linear_solver_type = options_.sparse_linear_solver ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR;
   solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   solver_options.max_num_iterations = max_iterations;
+  solver_options.function_tolerance = options_.config.function_tolerance;
   solver_options.num_threads = options_.config.solver_threads;
   solver_options.logging_type = ceres::SILENT;
   if (options_.real_time) solver_options.max_solver_time_in_seconds = options_.config.max_solver_time_s;
@@ -640,6 +641,8 @@ std::pair<int, double> SlidingWindowEstimator::solveBuiltin(const std::vector<Fa
     if (!knot_blocks.count(block)) landmarks.insert(block);
   WindowSolverOptions solver_options;
   solver_options.max_iterations = max_iterations;
+  solver_options.function_tolerance = options_.config.function_tolerance;
+  solver_options.threads = options_.config.solver_threads;
   if (options_.real_time) solver_options.max_time_s = options_.config.max_solver_time_s;
   const WindowSolverSummary summary =
       solveWindow(factors, kinds, landmarks, constant, *se3_manifold_, solver_options);

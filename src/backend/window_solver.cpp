@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <thread>
 #include <unordered_map>
 
 namespace asynevo::backend {
@@ -26,6 +27,8 @@ double msSince(Clock::time_point start) {
 constexpr double kMinDiagonal = 1e-6;  // Ceres's min_lm_diagonal / max_lm_diagonal
 constexpr double kMaxDiagonal = 1e32;
 constexpr int kMaxCameraTangent = 6;
+/// Fewer factors than this per thread are evaluated on fewer threads (a thread's start costs about as much).
+constexpr int kMinFactorsPerThread = 64;
 
 double clampDiagonal(double d) { return std::clamp(d, kMinDiagonal, kMaxDiagonal); }
 
@@ -167,10 +170,43 @@ class ArrowProblem {
 
   /// Σ ½ρ(|r|²) at the current values; with Jacobians, the robust-corrected residuals and Jacobians are
   /// kept for buildNormalEquations(). False when a factor refuses to evaluate or returns a non-finite value.
-  bool evaluate(bool with_jacobians, double& cost) {
+  /// On `threads` > 1 the factors are split into that many contiguous ranges, one thread each: every
+  /// factor writes its own residuals, Jacobians and cost term, and the cost terms are summed in factor
+  /// order afterwards, so the result is the same bit for bit on any number of threads.
+  bool evaluate(bool with_jacobians, double& cost, int threads) {
+    const int n = static_cast<int>(factors_.size());
+    factor_cost_.resize(factors_.size());
+    const int ranges = evaluationThreads(threads);
+    bool ok = true;
+    if (ranges == 1) {
+      ok = evaluateRange(0, n, with_jacobians);
+    } else {
+      std::vector<char> range_ok(static_cast<std::size_t>(ranges), 1);
+      std::vector<std::thread> workers;
+      workers.reserve(static_cast<std::size_t>(ranges - 1));
+      auto bound = [&](int k) { return static_cast<int>(static_cast<int64_t>(n) * k / ranges); };
+      for (int k = 1; k < ranges; ++k)
+        workers.emplace_back([&, k] { range_ok[k] = evaluateRange(bound(k), bound(k + 1), with_jacobians); });
+      range_ok[0] = evaluateRange(0, bound(1), with_jacobians);
+      for (std::thread& w : workers) w.join();
+      ok = std::all_of(range_ok.begin(), range_ok.end(), [](char c) { return c != 0; });
+    }
+    if (!ok) return false;
     cost = 0.0;
+    for (const double c : factor_cost_) cost += c;
+    return true;
+  }
+
+  /// The threads evaluate() uses for `threads` requested: at most one per kMinFactorsPerThread factors.
+  int evaluationThreads(int threads) const {
+    return std::clamp(static_cast<int>(factors_.size()) / kMinFactorsPerThread, 1, std::max(threads, 1));
+  }
+
+  /// evaluate() of the factors [begin, end).
+  bool evaluateRange(int begin, int end, bool with_jacobians) {
     std::vector<double*> jacobian_ptrs;
-    for (const Factor& f : factors_) {
+    for (int i = begin; i < end; ++i) {
+      const Factor& f = factors_[static_cast<std::size_t>(i)];
       const std::size_t n_blocks = f.variables.size();
       jacobian_ptrs.assign(n_blocks, nullptr);
       const bool jacobians = with_jacobians && !f.linear_prior;
@@ -184,13 +220,14 @@ class ArrowProblem {
       Eigen::Map<Eigen::VectorXd> res(r, f.residuals);
       if (!res.allFinite()) return false;
       const double s = res.squaredNorm();
+      double& cost = factor_cost_[static_cast<std::size_t>(i)];
       if (!f.entry->loss) {
-        cost += 0.5 * s;
+        cost = 0.5 * s;
         continue;
       }
       double rho[3];
       f.entry->loss->Evaluate(s, rho);
-      cost += 0.5 * rho[0];
+      cost = 0.5 * rho[0];
       if (!with_jacobians) continue;
       // Triggs correction, as linearize() in factor_graph.cpp.
       const double sqrt_rho1 = std::sqrt(std::max(rho[1], 0.0));
@@ -441,6 +478,7 @@ class ArrowProblem {
   std::vector<Landmark> landmarks_;
   int reduced_dims_ = 0;
   std::vector<double> residuals_, jacobians_, saved_;
+  std::vector<double> factor_cost_;  ///< each factor's ½ρ(|r|²) of the latest evaluation
   Eigen::MatrixXd H_, S_;
   Eigen::VectorXd g_, rhs_, delta_c_;
   std::vector<Eigen::Vector3d> delta_l_;
@@ -461,6 +499,7 @@ WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const s
   ArrowProblem problem(factors, kinds, landmarks, constant, pose_manifold);
   summary.eliminated_landmarks = problem.eliminatedLandmarks();
   summary.reduced_dims = problem.reducedDims();
+  summary.evaluation_threads = problem.evaluationThreads(options.threads);
 
   auto timed = [](double& total_ms, auto&& fn) {
     const auto t = Clock::now();
@@ -469,7 +508,7 @@ WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const s
     return result;
   };
   double cost = 0.0;
-  if (!timed(summary.jacobians_ms, [&] { return problem.evaluate(true, cost); })) {
+  if (!timed(summary.jacobians_ms, [&] { return problem.evaluate(true, cost, options.threads); })) {
     summary.valid_start = false;
     summary.total_ms = msSince(start);
     return summary;
@@ -504,7 +543,7 @@ WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const s
     const bool last = iteration == options.max_iterations;
     double candidate = 0.0;
     const bool valid = timed(last ? summary.residuals_ms : summary.jacobians_ms,
-                             [&] { return problem.evaluate(!last, candidate); });
+                             [&] { return problem.evaluate(!last, candidate, options.threads); });
     if (valid && std::abs(cost - candidate) <= options.function_tolerance * cost) {
       problem.restoreValues();  // as Ceres: the function tolerance ends the solve before the step is taken
       break;

@@ -57,7 +57,8 @@ TEST(SlidingWindowEstimator, TracksASyntheticSixDofTrajectoryAsWellAsTheFullBatc
 
 TEST(SlidingWindowEstimator, TheBuiltinSolverTracksAsCeresDoesAndIsDeterministic) {
   // window_solver: builtin on the same input as the Ceres window: as accurate (both within 1.5 % of the
-  // path, and within a few millimetres of each other), the same bounded window, identical twice.
+  // path, and within a few millimetres of each other), the same bounded window, identical twice and on two
+  // threads.
   const SyntheticScene scene(150);
   const double duration = 2.5;
   const auto measurements = scene.measurements(duration, 0.01, 0.4, 0.3);
@@ -78,6 +79,38 @@ TEST(SlidingWindowEstimator, TheBuiltinSolverTracksAsCeresDoesAndIsDeterministic
   const RunResult again = runEstimator(measurements, duration, builtin);
   ASSERT_EQ(again.knots.size(), own.knots.size());
   for (std::size_t i = 0; i < own.knots.size(); ++i) EXPECT_EQ(again.knots[i].pose, own.knots[i].pose) << i;
+  // The factors evaluated on two threads: the same knots bit for bit.
+  builtin.config.solver_threads = 2;
+  const RunResult threaded = runEstimator(measurements, duration, builtin);
+  ASSERT_EQ(threaded.knots.size(), own.knots.size());
+  for (std::size_t i = 0; i < own.knots.size(); ++i) {
+    EXPECT_EQ(threaded.knots[i].pose, own.knots[i].pose) << i;
+    EXPECT_EQ(threaded.knots[i].velocity, own.knots[i].velocity) << i;
+  }
+}
+
+TEST(SlidingWindowEstimator, ALooserFunctionToleranceEndsTheWindowSolvesSooner) {
+  // backend.function_tolerance reaches the window solver: at 1e-2 a solve ends once a step changes the
+  // cost by 1 % or less, so the updates take fewer iterations than at the default 1e-6, and still track.
+  const SyntheticScene scene(150);
+  const double duration = 2.0;
+  const auto measurements = scene.measurements(duration, 0.01, 0.4, 0.3);
+  EstimatorOptions loose = defaultOptions();
+  loose.config.window_solver = "builtin";
+  EstimatorOptions tight = loose;
+  loose.config.function_tolerance = 1e-2;
+  const RunResult a = runEstimator(measurements, duration, tight);
+  const RunResult b = runEstimator(measurements, duration, loose);
+  ASSERT_TRUE(b.stats.initialized) << b.stats.init_last_failure;
+  auto meanIterations = [](const RunResult& run) {
+    double sum = 0.0;
+    for (const UpdateRecord& r : run.records) sum += r.iterations;
+    return sum / std::max<std::size_t>(run.records.size(), 1);
+  };
+  ASSERT_GT(a.records.size(), 20u);
+  EXPECT_LT(meanIterations(b), 0.9 * meanIterations(a)) << meanIterations(b) << " against " << meanIterations(a);
+  const Accuracy acc = accuracy(b.knots);
+  EXPECT_LT(acc.ate_rmse, 0.03 * acc.path_length) << "ATE " << acc.ate_rmse << " over " << acc.path_length;
 }
 
 TEST(SlidingWindowEstimator, SameInputGivesIdenticalOutput) {

@@ -8,7 +8,9 @@
 #include <array>
 #include <memory>
 
+#include "asynevo/backend/factors/gp_projection_factor.hpp"
 #include "asynevo/backend/factors/linear_prior_factor.hpp"
+#include "asynevo/backend/factors/segment_cache.hpp"
 #include "asynevo/backend/factors/state_prior_factor.hpp"
 #include "asynevo/backend/window_solver.hpp"
 #include "testing/gp_ba_sim.hpp"
@@ -225,6 +227,57 @@ class WallCost final : public ceres::SizedCostFunction<1, 3> {
     return true;
   }
 };
+
+TEST_F(WindowSolverTest, FactorsEvaluatedOnSeveralThreadsGiveTheSameResultBitForBit) {
+  // 731 factors: 1 thread, 3 threads (ranges of unequal factor kinds), and 8. The projections of a knot
+  // interval share its segment cache, which the threads then use concurrently.
+  auto solve = [&](int threads, GpBaState& x) {
+    Window w = makeWindow(scenario_, x, 2.0);
+    std::map<const double*, std::shared_ptr<SegmentCache>> caches;
+    for (const FactorEntry& f : w.factors) {
+      auto* projection = dynamic_cast<GpProjectionFactor*>(f.cost.get());
+      if (projection == nullptr) continue;
+      std::shared_ptr<SegmentCache>& cache = caches[f.blocks[0]];
+      if (!cache) cache = std::make_shared<SegmentCache>();
+      projection->setSegmentCache(cache);
+    }
+    WindowSolverOptions options;
+    options.max_iterations = 8;
+    options.threads = threads;
+    return solveWindow(w.factors, w.kinds, w.landmarks, constantOf(x), manifold_, options);
+  };
+  GpBaState one = start_;
+  const WindowSolverSummary a = solve(1, one);
+  ASSERT_TRUE(a.valid_start);
+  ASSERT_LT(a.final_cost, 1e-3 * a.initial_cost);
+  EXPECT_EQ(a.evaluation_threads, 1);
+  for (const int threads : {3, 8}) {
+    GpBaState x = start_;
+    const WindowSolverSummary b = solve(threads, x);
+    EXPECT_EQ(b.evaluation_threads, threads);
+    EXPECT_EQ(b.initial_cost, a.initial_cost) << threads;
+    EXPECT_EQ(b.final_cost, a.final_cost) << threads;
+    EXPECT_EQ(b.iterations, a.iterations) << threads;
+    for (std::size_t k = 0; k < x.poses.size(); ++k) {
+      EXPECT_EQ(x.poses[k], one.poses[k]) << threads << " threads, knot " << k;
+      EXPECT_EQ(x.velocities[k], one.velocities[k]) << threads << " threads, knot " << k;
+    }
+    for (std::size_t l = 0; l < x.landmarks.size(); ++l)
+      EXPECT_EQ(x.landmarks[l], one.landmarks[l]) << threads << " threads, landmark " << l;
+  }
+}
+
+TEST_F(WindowSolverTest, AFewFactorsAreEvaluatedOnOneThread) {
+  // 11 WNOA priors alone: fewer than one thread's share, whatever is asked.
+  GpBaState x = start_;
+  Window w = makeWindow(scenario_, x, 2.0);
+  w.factors.resize(x.poses.size() - 1);
+  w.landmarks.clear();
+  WindowSolverOptions options;
+  options.threads = 4;
+  const WindowSolverSummary summary = solveWindow(w.factors, w.kinds, w.landmarks, constantOf(x), manifold_, options);
+  EXPECT_EQ(summary.evaluation_threads, 1);
+}
 
 TEST(WindowSolver, StepsWhereAFactorRefusesToEvaluateAreRejected) {
   // The Gauss–Newton step goes to p₀ = 10, where the factor refuses: the step is rejected, the trust

@@ -15,7 +15,8 @@
 // otherwise Δ ← Δ/ν, ν ← 2ν. A step at which a factor refuses to evaluate (a point behind the camera) is
 // rejected. Stops as Ceres does: max iterations, |Δcost| ≤ function_tolerance · cost, max |g| ≤
 // gradient_tolerance, |δ| ≤ parameter_tolerance (|x| + parameter_tolerance), or the wall-time cap.
-// Single-threaded and deterministic: the result depends only on the factor order and the values.
+// Deterministic: the result depends only on the factor order and the values. The factors can be
+// evaluated on several threads (`threads`), with the same result bit for bit; the rest is sequential.
 
 #include <ceres/manifold.h>
 
@@ -35,6 +36,7 @@ struct WindowSolverOptions {
   double parameter_tolerance = 1e-8;
   double initial_radius = 1e4;
   double min_relative_decrease = 1e-3;
+  int threads = 1;  ///< threads evaluating the factors (residuals, Jacobians); the result does not depend on it
 };
 
 struct WindowSolverSummary {
@@ -46,6 +48,7 @@ struct WindowSolverSummary {
   bool valid_start = true;  ///< false: a factor refused to evaluate at the start; nothing was changed
   int eliminated_landmarks = 0;
   int reduced_dims = 0;  ///< size of the dense system after the elimination
+  int evaluation_threads = 1;  ///< threads the factors were evaluated on (`threads`, fewer for few factors)
   double residuals_ms = 0.0, jacobians_ms = 0.0, linear_ms = 0.0, total_ms = 0.0;
 };
 

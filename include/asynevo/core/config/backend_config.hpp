@@ -58,10 +58,14 @@ struct BackendConfig {
 
   // --- solver ---
   int max_iterations = 5;
+  /// The solve ends when a step changes the cost by at most this fraction of it (Ceres's function tolerance).
+  double function_tolerance = 1e-6;
   double max_solver_time_s = 0.2;
-  int solver_threads = 1;       ///< Ceres threads; 1 keeps offline runs bit-for-bit deterministic
+  /// Threads of a window solve: builtin, the factors' evaluation (the same result on any number); ceres and
+  /// the full-history baselines, Ceres's threads (only 1 keeps offline runs bit-for-bit deterministic).
+  int solver_threads = 1;
   /// The window's Levenberg–Marquardt solver: "builtin" (our own arrow-structured Schur solver,
-  /// backend/window_solver.hpp; single-threaded) or "ceres" (Ceres, DENSE_SCHUR, solver_threads).
+  /// backend/window_solver.hpp; factors evaluated on solver_threads) or "ceres" (Ceres, DENSE_SCHUR, solver_threads).
   std::string window_solver = "builtin";
 
   // --- initialization ---
@@ -143,8 +147,12 @@ struct BackendConfig {
     v("track_measurement_dt_ms", track_measurement_dt_ms,
       "a track's measurements closer than this to its previous one kept are not used [ms] (0 = all)");
     v("max_iterations", max_iterations, "Levenberg-Marquardt iterations per window solve");
+    v("function_tolerance", function_tolerance,
+      "a window solve ends when a step changes the cost by at most this fraction of it");
     v("max_solver_time_s", max_solver_time_s, "wall-time cap per window solve [s]");
-    v("solver_threads", solver_threads, "Ceres threads (1 = deterministic)");
+    v("solver_threads", solver_threads,
+      "threads of a window solve: builtin, factor evaluation (same result on any number); ceres, Ceres threads "
+      "(1 = deterministic)");
     v("window_solver", window_solver, "the window's solver: builtin (own Schur solver) or ceres");
     v("init_min_parallax_px", init_min_parallax_px,
       "initialization: median parallax, raw and with the rotation removed [px]");
