@@ -1,6 +1,7 @@
 #include "asynevo/backend/window_solver.hpp"
 
 #include "asynevo/backend/factors/linear_prior_factor.hpp"
+#include "range_workers.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -9,7 +10,6 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
-#include <thread>
 #include <unordered_map>
 
 namespace asynevo::backend {
@@ -163,6 +163,20 @@ class ArrowProblem {
       }
     }
     for (Landmark& lm : landmarks_) lm.W.resize(lm.slot_variables.size());
+
+    // The order of evaluation: grouped by the factor's first block (a projection's knot interval starts
+    // there), stable within a group. Any order gives the same result; this one lets evaluate() split
+    // the factors between threads at group boundaries.
+    eval_order_.resize(factors_.size());
+    for (std::size_t i = 0; i < factors_.size(); ++i) eval_order_[i] = static_cast<int>(i);
+    auto group = [&](int i) {
+      const Factor& f = factors_[static_cast<std::size_t>(i)];
+      return f.variables.empty() ? -1 : f.variables[0];
+    };
+    std::stable_sort(eval_order_.begin(), eval_order_.end(),
+                     [&](int a, int b) { return group(a) < group(b); });
+    eval_group_.resize(factors_.size());
+    for (std::size_t o = 0; o < eval_order_.size(); ++o) eval_group_[o] = group(eval_order_[o]);
   }
 
   int reducedDims() const { return reduced_dims_; }
@@ -170,28 +184,29 @@ class ArrowProblem {
 
   /// Σ ½ρ(|r|²) at the current values; with Jacobians, the robust-corrected residuals and Jacobians are
   /// kept for buildNormalEquations(). False when a factor refuses to evaluate or returns a non-finite value.
-  /// On `threads` > 1 the factors are split into that many contiguous ranges, one thread each: every
+  /// With workers, the factors are split into one range per thread (the caller's and the workers'): every
   /// factor writes its own residuals, Jacobians and cost term, and the cost terms are summed in factor
   /// order afterwards, so the result is the same bit for bit on any number of threads.
-  bool evaluate(bool with_jacobians, double& cost, int threads) {
+  bool evaluate(bool with_jacobians, double& cost, RangeWorkers& workers) {
     const int n = static_cast<int>(factors_.size());
     factor_cost_.resize(factors_.size());
-    const int ranges = evaluationThreads(threads);
-    bool ok = true;
-    if (ranges == 1) {
-      ok = evaluateRange(0, n, with_jacobians);
-    } else {
-      std::vector<char> range_ok(static_cast<std::size_t>(ranges), 1);
-      std::vector<std::thread> workers;
-      workers.reserve(static_cast<std::size_t>(ranges - 1));
-      auto bound = [&](int k) { return static_cast<int>(static_cast<int64_t>(n) * k / ranges); };
-      for (int k = 1; k < ranges; ++k)
-        workers.emplace_back([&, k] { range_ok[k] = evaluateRange(bound(k), bound(k + 1), with_jacobians); });
-      range_ok[0] = evaluateRange(0, bound(1), with_jacobians);
-      for (std::thread& w : workers) w.join();
-      ok = std::all_of(range_ok.begin(), range_ok.end(), [](char c) { return c != 0; });
+    const int ranges = workers.workers() + 1;
+    // Ranges of eval_order_ that end where a group's factors end: the projections of one knot interval
+    // share its segment cache, which then stays with one thread.
+    std::vector<int> bounds{0};
+    for (int k = 1; k < ranges; ++k) {
+      int b = std::max(bounds.back(), static_cast<int>(static_cast<int64_t>(n) * k / ranges));
+      auto sameGroup = [&](int o) {
+        return eval_group_[static_cast<std::size_t>(o)] == eval_group_[static_cast<std::size_t>(o - 1)];
+      };
+      while (b > 0 && b < n && sameGroup(b)) ++b;
+      bounds.push_back(b);
     }
-    if (!ok) return false;
+    bounds.push_back(n);
+    std::vector<char> range_ok(static_cast<std::size_t>(ranges), 1);
+    workers.run(ranges,
+                [&](int k) { range_ok[k] = evaluateRange(bounds[k], bounds[k + 1], with_jacobians); });
+    if (!std::all_of(range_ok.begin(), range_ok.end(), [](char c) { return c != 0; })) return false;
     cost = 0.0;
     for (const double c : factor_cost_) cost += c;
     return true;
@@ -202,10 +217,11 @@ class ArrowProblem {
     return std::clamp(static_cast<int>(factors_.size()) / kMinFactorsPerThread, 1, std::max(threads, 1));
   }
 
-  /// evaluate() of the factors [begin, end).
+  /// evaluate() of the factors eval_order_[begin, end).
   bool evaluateRange(int begin, int end, bool with_jacobians) {
     std::vector<double*> jacobian_ptrs;
-    for (int i = begin; i < end; ++i) {
+    for (int o = begin; o < end; ++o) {
+      const int i = eval_order_[static_cast<std::size_t>(o)];
       const Factor& f = factors_[static_cast<std::size_t>(i)];
       const std::size_t n_blocks = f.variables.size();
       jacobian_ptrs.assign(n_blocks, nullptr);
@@ -479,6 +495,8 @@ class ArrowProblem {
   int reduced_dims_ = 0;
   std::vector<double> residuals_, jacobians_, saved_;
   std::vector<double> factor_cost_;  ///< each factor's ½ρ(|r|²) of the latest evaluation
+  std::vector<int> eval_order_;      ///< factor indices in evaluation order (grouped by first block)
+  std::vector<int> eval_group_;      ///< the group (first block's variable) of eval_order_[o]
   Eigen::MatrixXd H_, S_;
   Eigen::VectorXd g_, rhs_, delta_c_;
   std::vector<Eigen::Vector3d> delta_l_;
@@ -500,6 +518,7 @@ WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const s
   summary.eliminated_landmarks = problem.eliminatedLandmarks();
   summary.reduced_dims = problem.reducedDims();
   summary.evaluation_threads = problem.evaluationThreads(options.threads);
+  RangeWorkers workers(summary.evaluation_threads - 1);
 
   auto timed = [](double& total_ms, auto&& fn) {
     const auto t = Clock::now();
@@ -508,7 +527,7 @@ WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const s
     return result;
   };
   double cost = 0.0;
-  if (!timed(summary.jacobians_ms, [&] { return problem.evaluate(true, cost, options.threads); })) {
+  if (!timed(summary.jacobians_ms, [&] { return problem.evaluate(true, cost, workers); })) {
     summary.valid_start = false;
     summary.total_ms = msSince(start);
     return summary;
@@ -543,7 +562,7 @@ WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const s
     const bool last = iteration == options.max_iterations;
     double candidate = 0.0;
     const bool valid = timed(last ? summary.residuals_ms : summary.jacobians_ms,
-                             [&] { return problem.evaluate(!last, candidate, options.threads); });
+                             [&] { return problem.evaluate(!last, candidate, workers); });
     if (valid && std::abs(cost - candidate) <= options.function_tolerance * cost) {
       problem.restoreValues();  // as Ceres: the function tolerance ends the solve before the step is taken
       break;

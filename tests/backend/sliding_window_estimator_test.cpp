@@ -108,7 +108,8 @@ TEST(SlidingWindowEstimator, ALooserFunctionToleranceEndsTheWindowSolvesSooner) 
     return sum / std::max<std::size_t>(run.records.size(), 1);
   };
   ASSERT_GT(a.records.size(), 20u);
-  EXPECT_LT(meanIterations(b), 0.9 * meanIterations(a)) << meanIterations(b) << " against " << meanIterations(a);
+  EXPECT_LT(meanIterations(b), 0.9 * meanIterations(a))
+      << meanIterations(b) << " against " << meanIterations(a);
   const Accuracy acc = accuracy(b.knots);
   EXPECT_LT(acc.ate_rmse, 0.03 * acc.path_length) << "ATE " << acc.ate_rmse << " over " << acc.path_length;
 }

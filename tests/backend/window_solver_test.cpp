@@ -275,7 +275,8 @@ TEST_F(WindowSolverTest, AFewFactorsAreEvaluatedOnOneThread) {
   w.landmarks.clear();
   WindowSolverOptions options;
   options.threads = 4;
-  const WindowSolverSummary summary = solveWindow(w.factors, w.kinds, w.landmarks, constantOf(x), manifold_, options);
+  const WindowSolverSummary summary =
+      solveWindow(w.factors, w.kinds, w.landmarks, constantOf(x), manifold_, options);
   EXPECT_EQ(summary.evaluation_threads, 1);
 }
 

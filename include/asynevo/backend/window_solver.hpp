@@ -36,7 +36,8 @@ struct WindowSolverOptions {
   double parameter_tolerance = 1e-8;
   double initial_radius = 1e4;
   double min_relative_decrease = 1e-3;
-  int threads = 1;  ///< threads evaluating the factors (residuals, Jacobians); the result does not depend on it
+  /// Threads evaluating the factors (residuals, Jacobians); the result does not depend on it.
+  int threads = 1;
 };
 
 struct WindowSolverSummary {

@@ -65,7 +65,8 @@ struct BackendConfig {
   /// the full-history baselines, Ceres's threads (only 1 keeps offline runs bit-for-bit deterministic).
   int solver_threads = 1;
   /// The window's Levenberg–Marquardt solver: "builtin" (our own arrow-structured Schur solver,
-  /// backend/window_solver.hpp; factors evaluated on solver_threads) or "ceres" (Ceres, DENSE_SCHUR, solver_threads).
+  /// backend/window_solver.hpp; factors evaluated on solver_threads) or "ceres" (Ceres, DENSE_SCHUR,
+  /// solver_threads).
   std::string window_solver = "builtin";
 
   // --- initialization ---
@@ -151,8 +152,8 @@ struct BackendConfig {
       "a window solve ends when a step changes the cost by at most this fraction of it");
     v("max_solver_time_s", max_solver_time_s, "wall-time cap per window solve [s]");
     v("solver_threads", solver_threads,
-      "threads of a window solve: builtin, factor evaluation (same result on any number); ceres, Ceres threads "
-      "(1 = deterministic)");
+      "threads of a window solve: builtin, factor evaluation (same result on any number); ceres, "
+      "Ceres threads (1 = deterministic)");
     v("window_solver", window_solver, "the window's solver: builtin (own Schur solver) or ceres");
     v("init_min_parallax_px", init_min_parallax_px,
       "initialization: median parallax, raw and with the rotation removed [px]");
