@@ -109,10 +109,14 @@ void SlidingWindowEstimator::advanceTo(int64_t t_ns) {
   // event before it and the estimator starts again with what comes after it.
   const double gap_ms = options_.config.loss_max_event_gap_ms;
   if (gap_ms > 0 && last_event_ns_ > 0 && durationSeconds(last_event_ns_, t_ns) * 1e3 > gap_ms) {
+    // Measurements are forgotten up to the middle of the gap: a tracker can stamp a measurement after
+    // the last marker before the gap and deliver it only after the gap, and such a measurement would
+    // let a start interpolate its track across the gap (its first knots would then lie inside it).
+    const int64_t reset_ns = last_event_ns_ + (t_ns - last_event_ns_) / 2;
     if (tracking_) {
-      loseTracking(SegmentEnd::kEventGap, t_ns, last_event_ns_, last_event_ns_ + 1);
+      loseTracking(SegmentEnd::kEventGap, t_ns, last_event_ns_, reset_ns);
     } else {  // measurements from before the gap would pair with ones after it in a two-view start
-      restartInitialization(last_event_ns_ + 1);
+      restartInitialization(reset_ns);
     }
   }
   last_event_ns_ = std::max(last_event_ns_, t_ns);

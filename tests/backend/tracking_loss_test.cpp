@@ -94,6 +94,39 @@ TEST(TrackingLoss, AGapInTheEventsEndsTheSegmentAndTheEstimatorStartsAgainAfterI
   }
 }
 
+TEST(TrackingLoss, AMeasurementFromBeforeAGapDeliveredAfterItIsNotUsed) {
+  // Markers come once per millisecond of event time, and a tracker may deliver a measurement only
+  // after the gap, stamped after the last marker before it. Such a measurement must not start a track
+  // that a restart would interpolate across the gap: it is dropped and counted.
+  const SyntheticScene scene(150);
+  const double duration = 3.0;
+  const int64_t gap_from = 1'600'000'000, gap_to = 2'000'000'000;
+  std::vector<TrackMeasurement> ms;
+  for (const TrackMeasurement& m : scene.measurements(duration, 0.01, 0.4, 0.3))
+    if (m.t_ns < gap_from || m.t_ns >= gap_to) ms.push_back(m);
+  SlidingWindowEstimator estimator(testing::syntheticSceneOptions());
+  std::size_t next = 0;
+  uint64_t before_reset = 0;
+  for (int64_t t = 0; t <= 3'000'000'000; t += 1'000'000) {
+    if (t >= gap_from && t < gap_to) continue;  // the last marker before the gap is at gap_from - 1 ms
+    while (next < ms.size() && ms[next].t_ns <= t) estimator.addMeasurement(ms[next++]);
+    estimator.advanceTo(t);
+    if (t == gap_to) {
+      before_reset = estimator.stats().measurements_before_reset;
+      TrackMeasurement late = ms.front();
+      late.feature_id = 1'000'000;
+      late.t_ns = gap_from - 500'000;  // after the last marker, before the gap
+      estimator.addMeasurement(late);
+      EXPECT_EQ(estimator.stats().measurements_before_reset, before_reset + 1);
+    }
+  }
+  estimator.finish();
+  const EstimatorStats& stats = estimator.stats();
+  ASSERT_EQ(stats.segments.size(), 2u) << stats.init_last_failure;
+  EXPECT_EQ(stats.segments[0].end, SegmentEnd::kEventGap);
+  EXPECT_GE(stats.segments[1].t0_ns, gap_to);
+}
+
 TEST(TrackingLoss, WithTheGapTestOffTheWindowBridgesTheGap) {
   const SyntheticScene scene(150);
   const double duration = 3.0;
