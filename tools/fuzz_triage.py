@@ -75,7 +75,7 @@ def kind_of(report):
     """The fault a report describes, in a few words."""
     for pattern in (r"ERROR: AddressSanitizer: ([\w-]+)", r"ERROR: LeakSanitizer: (detected memory leaks)",
                     r"ERROR: libFuzzer: (out-of-memory \((?:[^()]|\([^()]*\))*\))",
-                    r"ERROR: libFuzzer: (timeout)",
+                    r"ERROR: libFuzzer: (timeout)", r"ERROR: (replay did not finish within [\d.]+ s)",
                     r"(runtime error: [^\n]*)", r"ERROR: libFuzzer: ([\w-]+)"):
         m = re.search(pattern, report)
         if m:
@@ -100,12 +100,21 @@ def classify(report, guarded_ok):
     return "contained", f"{kind} in libhdf5 ({at})"
 
 
-def run(binary, artifact, unguarded):
+REPLAY_TIMEOUT_S = 600  # libFuzzer's own -timeout=20 ends a hang in the harness far sooner
+
+
+def run(binary, artifact, unguarded, timeout_s=None):
+    """(exit status, output) of one replay; a replay still running after the time limit is killed and
+    reported as such (exit status None), which the sorting counts as a finding."""
     env = dict(os.environ)
     env["ASYNEVO_FUZZ_HDF5_UNGUARDED"] = "1" if unguarded else "0"
-    proc = subprocess.run([binary, "-rss_limit_mb=2048", "-timeout=20", artifact], env=env,
-                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, errors="replace",
-                          timeout=600)
+    limit = REPLAY_TIMEOUT_S if timeout_s is None else timeout_s
+    try:
+        proc = subprocess.run([binary, "-rss_limit_mb=2048", "-timeout=20", artifact], env=env,
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, errors="replace",
+                              timeout=limit)
+    except subprocess.TimeoutExpired:
+        return None, f"ERROR: replay did not finish within {limit:g} s\n"
     return proc.returncode, proc.stdout
 
 
@@ -115,14 +124,16 @@ def main(argv=None):
     ap.add_argument("findings")
     ap.add_argument("--move-contained", metavar="DIR",
                     help="move the contained artifacts here (out of the findings folder)")
+    ap.add_argument("--replay-timeout", type=float, default=REPLAY_TIMEOUT_S, metavar="S",
+                    help="kill a replay after this many seconds and count the artifact as a finding")
     args = ap.parse_args(argv)
     artifacts = sorted(f for f in os.listdir(args.findings)
                        if re.match(r"(crash|oom|timeout|leak|slow-unit)-", f))
     findings = 0
     for name in artifacts:
         path = os.path.join(args.findings, name)
-        _, report = run(args.binary, path, unguarded=True)
-        guarded_code, guarded_report = run(args.binary, path, unguarded=False)
+        _, report = run(args.binary, path, unguarded=True, timeout_s=args.replay_timeout)
+        guarded_code, guarded_report = run(args.binary, path, unguarded=False, timeout_s=args.replay_timeout)
         verdict, why = classify(report, guarded_code == 0)
         print(f"{verdict:9s} {name}: {why}")
         if verdict == "finding":

@@ -97,4 +97,19 @@ cat "{reports}/$r"; exit 1
     check(os.listdir(contained) == ["crash-libhdf5-1"], "the contained artifact moved out of the findings")
     check(sorted(os.listdir(findings)) == ["README", "crash-ours-1", "oom-libhdf5-2"], "the finding stayed")
 
+    # A replay that does not finish (a hang past libFuzzer's own watchdog, or a stopped process) is
+    # killed at the time limit and counted as a finding; the sorting goes on.
+    hanging = os.path.join(tmp, "fuzz_hangs")
+    with open(hanging, "w") as f:
+        f.write("#!/bin/sh\nexec sleep 30\n")
+    os.chmod(hanging, os.stat(hanging).st_mode | stat.S_IXUSR)
+    stuck = os.path.join(tmp, "stuck")
+    os.makedirs(stuck)
+    open(os.path.join(stuck, "timeout-1"), "w").close()
+    proc = subprocess.run([sys.executable, os.path.join(REPO_DIR, "tools", "fuzz_triage.py"), hanging, stuck,
+                           "--replay-timeout", "0.5"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    check(proc.returncode == 1 and "replay did not finish within 0.5 s" in proc.stdout
+          and "1 artifact(s): 0 contained, 1 finding(s)" in proc.stdout,
+          "a replay past the time limit: a finding, no traceback: " + proc.stdout.strip().splitlines()[-1])
+
 sys.exit(exit_code())
