@@ -165,18 +165,13 @@ class ArrowProblem {
     for (Landmark& lm : landmarks_) lm.W.resize(lm.slot_variables.size());
 
     // The order of evaluation: grouped by the factor's first block (a projection's knot interval starts
-    // there), stable within a group. Any order gives the same result; this one lets evaluate() split
-    // the factors between threads at group boundaries.
+    // there), stable within a group. Any order gives the same result; this one lets splitEvaluation()
+    // divide the factors between threads at group boundaries.
     eval_order_.resize(factors_.size());
     for (std::size_t i = 0; i < factors_.size(); ++i) eval_order_[i] = static_cast<int>(i);
-    auto group = [&](int i) {
-      const Factor& f = factors_[static_cast<std::size_t>(i)];
-      return f.variables.empty() ? -1 : f.variables[0];
-    };
     std::stable_sort(eval_order_.begin(), eval_order_.end(),
-                     [&](int a, int b) { return group(a) < group(b); });
-    eval_group_.resize(factors_.size());
-    for (std::size_t o = 0; o < eval_order_.size(); ++o) eval_group_[o] = group(eval_order_[o]);
+                     [&](int a, int b) { return groupOf(a) < groupOf(b); });
+    splitEvaluation(1);
   }
 
   int reducedDims() const { return reduced_dims_; }
@@ -184,37 +179,43 @@ class ArrowProblem {
 
   /// Σ ½ρ(|r|²) at the current values; with Jacobians, the robust-corrected residuals and Jacobians are
   /// kept for buildNormalEquations(). False when a factor refuses to evaluate or returns a non-finite value.
-  /// With workers, the factors are split into one range per thread (the caller's and the workers'): every
-  /// factor writes its own residuals, Jacobians and cost term, and the cost terms are summed in factor
-  /// order afterwards, so the result is the same bit for bit on any number of threads.
+  /// The factors are evaluated in the ranges of splitEvaluation(), one per thread (the caller's and the
+  /// workers'): every factor writes its own residuals, Jacobians and cost term, and the cost terms are
+  /// summed in factor order afterwards, so the result is the same bit for bit on any number of threads.
   bool evaluate(bool with_jacobians, double& cost, RangeWorkers& workers) {
-    const int n = static_cast<int>(factors_.size());
     factor_cost_.resize(factors_.size());
-    const int ranges = workers.workers() + 1;
-    // Ranges of eval_order_ that end where a group's factors end: the projections of one knot interval
-    // share its segment cache, which then stays with one thread.
-    std::vector<int> bounds{0};
-    for (int k = 1; k < ranges; ++k) {
-      int b = std::max(bounds.back(), static_cast<int>(static_cast<int64_t>(n) * k / ranges));
-      auto sameGroup = [&](int o) {
-        return eval_group_[static_cast<std::size_t>(o)] == eval_group_[static_cast<std::size_t>(o - 1)];
-      };
-      while (b > 0 && b < n && sameGroup(b)) ++b;
-      bounds.push_back(b);
-    }
-    bounds.push_back(n);
+    const int ranges = static_cast<int>(bounds_.size()) - 1;
     std::vector<char> range_ok(static_cast<std::size_t>(ranges), 1);
     workers.run(ranges,
-                [&](int k) { range_ok[k] = evaluateRange(bounds[k], bounds[k + 1], with_jacobians); });
+                [&](int k) { range_ok[k] = evaluateRange(bounds_[k], bounds_[k + 1], with_jacobians); });
     if (!std::all_of(range_ok.begin(), range_ok.end(), [](char c) { return c != 0; })) return false;
     cost = 0.0;
     for (const double c : factor_cost_) cost += c;
     return true;
   }
 
+  /// Splits eval_order_ into `ranges` ranges of about equal size that end where a group's factors end:
+  /// the projections of one knot interval share its segment cache, which then stays with one thread.
+  void splitEvaluation(int ranges) {
+    const int n = static_cast<int>(factors_.size());
+    bounds_.assign(1, 0);
+    for (int k = 1; k < ranges; ++k) {
+      int b = std::max(bounds_.back(), static_cast<int>(static_cast<int64_t>(n) * k / ranges));
+      while (b > 0 && b < n && groupOf(eval_order_[b]) == groupOf(eval_order_[b - 1])) ++b;
+      bounds_.push_back(b);
+    }
+    bounds_.push_back(n);
+  }
+
   /// The threads evaluate() uses for `threads` requested: at most one per kMinFactorsPerThread factors.
   int evaluationThreads(int threads) const {
     return std::clamp(static_cast<int>(factors_.size()) / kMinFactorsPerThread, 1, std::max(threads, 1));
+  }
+
+  /// The group of factor i: its first block's variable.
+  int groupOf(int i) const {
+    const Factor& f = factors_[static_cast<std::size_t>(i)];
+    return f.variables.empty() ? -1 : f.variables[0];
   }
 
   /// evaluate() of the factors eval_order_[begin, end).
@@ -496,7 +497,7 @@ class ArrowProblem {
   std::vector<double> residuals_, jacobians_, saved_;
   std::vector<double> factor_cost_;  ///< each factor's ½ρ(|r|²) of the latest evaluation
   std::vector<int> eval_order_;      ///< factor indices in evaluation order (grouped by first block)
-  std::vector<int> eval_group_;      ///< the group (first block's variable) of eval_order_[o]
+  std::vector<int> bounds_;          ///< the ranges of eval_order_ evaluated by one thread each
   Eigen::MatrixXd H_, S_;
   Eigen::VectorXd g_, rhs_, delta_c_;
   std::vector<Eigen::Vector3d> delta_l_;
@@ -518,6 +519,7 @@ WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const s
   summary.eliminated_landmarks = problem.eliminatedLandmarks();
   summary.reduced_dims = problem.reducedDims();
   summary.evaluation_threads = problem.evaluationThreads(options.threads);
+  problem.splitEvaluation(summary.evaluation_threads);
   RangeWorkers workers(summary.evaluation_threads - 1);
 
   auto timed = [](double& total_ms, auto&& fn) {

@@ -26,6 +26,15 @@ RunResult runEstimator(const std::vector<TrackMeasurement>& measurements, double
 
 EstimatorOptions defaultOptions() { return testing::syntheticSceneOptions(); }
 
+/// The same final knots, bit for bit.
+void expectSameKnots(const RunResult& a, const RunResult& b) {
+  ASSERT_EQ(a.knots.size(), b.knots.size());
+  for (std::size_t i = 0; i < a.knots.size(); ++i) {
+    EXPECT_EQ(a.knots[i].pose, b.knots[i].pose) << i;
+    EXPECT_EQ(a.knots[i].velocity, b.knots[i].velocity) << i;
+  }
+}
+
 TEST(SlidingWindowEstimator, TracksASyntheticSixDofTrajectoryAsWellAsTheFullBatchWithABoundedWindow) {
   const SyntheticScene scene(150);
   const double duration = 2.5;
@@ -81,12 +90,7 @@ TEST(SlidingWindowEstimator, TheBuiltinSolverTracksAsCeresDoesAndIsDeterministic
   for (std::size_t i = 0; i < own.knots.size(); ++i) EXPECT_EQ(again.knots[i].pose, own.knots[i].pose) << i;
   // The factors evaluated on two threads: the same knots bit for bit.
   builtin.config.solver_threads = 2;
-  const RunResult threaded = runEstimator(measurements, duration, builtin);
-  ASSERT_EQ(threaded.knots.size(), own.knots.size());
-  for (std::size_t i = 0; i < own.knots.size(); ++i) {
-    EXPECT_EQ(threaded.knots[i].pose, own.knots[i].pose) << i;
-    EXPECT_EQ(threaded.knots[i].velocity, own.knots[i].velocity) << i;
-  }
+  expectSameKnots(runEstimator(measurements, duration, builtin), own);
 }
 
 TEST(SlidingWindowEstimator, ALooserFunctionToleranceEndsTheWindowSolvesSooner) {
@@ -121,11 +125,7 @@ TEST(SlidingWindowEstimator, SameInputGivesIdenticalOutput) {
   const RunResult b = runEstimator(measurements, 2.0, defaultOptions());
   ASSERT_TRUE(a.stats.initialized) << a.stats.init_last_failure;
   ASSERT_GT(a.stats.marginalizations, 5u);
-  ASSERT_EQ(a.knots.size(), b.knots.size());
-  for (std::size_t i = 0; i < a.knots.size(); ++i) {
-    EXPECT_EQ(a.knots[i].pose, b.knots[i].pose) << i;
-    EXPECT_EQ(a.knots[i].velocity, b.knots[i].velocity) << i;
-  }
+  expectSameKnots(a, b);
 }
 
 TEST(SlidingWindowEstimator, SubsamplesEachTracksMeasurementsInTime) {

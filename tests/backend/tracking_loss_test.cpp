@@ -33,6 +33,15 @@ testing::EstimatorRun driveWithGaps(SlidingWindowEstimator& estimator, const std
   return run;
 }
 
+/// The scene's measurements without those of [gap_from_ns, gap_to_ns).
+std::vector<TrackMeasurement> measurementsWithGap(const SyntheticScene& scene, double duration_s,
+                                                  int64_t gap_from_ns, int64_t gap_to_ns) {
+  std::vector<TrackMeasurement> ms;
+  for (const TrackMeasurement& m : scene.measurements(duration_s, 0.01, 0.4, 0.3))
+    if (m.t_ns < gap_from_ns || m.t_ns >= gap_to_ns) ms.push_back(m);
+  return ms;
+}
+
 std::vector<Knot> knotsIn(const std::vector<Knot>& knots, const Segment& s) {
   std::vector<Knot> out;
   for (const Knot& k : knots)
@@ -70,9 +79,7 @@ TEST(TrackingLoss, AGapInTheEventsEndsTheSegmentAndTheEstimatorStartsAgainAfterI
   const SyntheticScene scene(150);
   const double duration = 4.0;
   const int64_t gap_from = 1'600'000'000, gap_to = 2'000'000'000;  // 400 ms without events
-  std::vector<TrackMeasurement> ms;
-  for (const TrackMeasurement& m : scene.measurements(duration, 0.01, 0.4, 0.3))
-    if (m.t_ns < gap_from || m.t_ns >= gap_to) ms.push_back(m);
+  const std::vector<TrackMeasurement> ms = measurementsWithGap(scene, duration, gap_from, gap_to);
   SlidingWindowEstimator estimator(testing::syntheticSceneOptions());
   const auto run = driveWithGaps(estimator, ms, duration, gap_from, gap_to);
   ASSERT_EQ(run.stats.segments.size(), 2u) << run.stats.init_last_failure;
@@ -101,18 +108,15 @@ TEST(TrackingLoss, AMeasurementFromBeforeAGapDeliveredAfterItIsNotUsed) {
   const SyntheticScene scene(150);
   const double duration = 3.0;
   const int64_t gap_from = 1'600'000'000, gap_to = 2'000'000'000;
-  std::vector<TrackMeasurement> ms;
-  for (const TrackMeasurement& m : scene.measurements(duration, 0.01, 0.4, 0.3))
-    if (m.t_ns < gap_from || m.t_ns >= gap_to) ms.push_back(m);
+  const std::vector<TrackMeasurement> ms = measurementsWithGap(scene, duration, gap_from, gap_to);
   SlidingWindowEstimator estimator(testing::syntheticSceneOptions());
   std::size_t next = 0;
-  uint64_t before_reset = 0;
-  for (int64_t t = 0; t <= 3'000'000'000; t += 1'000'000) {
+  for (int64_t t = 0; t <= std::llround(duration * 1e9); t += 1'000'000) {
     if (t >= gap_from && t < gap_to) continue;  // the last marker before the gap is at gap_from - 1 ms
     while (next < ms.size() && ms[next].t_ns <= t) estimator.addMeasurement(ms[next++]);
     estimator.advanceTo(t);
     if (t == gap_to) {
-      before_reset = estimator.stats().measurements_before_reset;
+      const uint64_t before_reset = estimator.stats().measurements_before_reset;
       TrackMeasurement late = ms.front();
       late.feature_id = 1'000'000;
       late.t_ns = gap_from - 500'000;  // after the last marker, before the gap
@@ -131,9 +135,7 @@ TEST(TrackingLoss, WithTheGapTestOffTheWindowBridgesTheGap) {
   const SyntheticScene scene(150);
   const double duration = 3.0;
   const int64_t gap_from = 1'600'000'000, gap_to = 2'000'000'000;
-  std::vector<TrackMeasurement> ms;
-  for (const TrackMeasurement& m : scene.measurements(duration, 0.01, 0.4, 0.3))
-    if (m.t_ns < gap_from || m.t_ns >= gap_to) ms.push_back(m);
+  const std::vector<TrackMeasurement> ms = measurementsWithGap(scene, duration, gap_from, gap_to);
   EstimatorOptions options = testing::syntheticSceneOptions();
   options.config.loss_max_event_gap_ms = 0;
   SlidingWindowEstimator estimator(options);
