@@ -1,5 +1,5 @@
 #pragma once
-// Small RAII wrappers for the HDF5 C API, shared by the MVSEC readers.
+// Small RAII wrappers for the HDF5 C API and the checks every HDF5 reader makes before it reads a value.
 
 #include <hdf5.h>
 
@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "asynevo/core/error.hpp"
+#include "hdf5_layout.hpp"
 
 namespace asynevo::io_detail {
 
@@ -73,9 +74,11 @@ inline bool h5PathExists(hid_t file, const std::string& path) {
   }
 }
 
-/// The storage half of h5CheckFloatDataset, for values of any type of `size` bytes (`size` > 0).
+/// The storage half of h5CheckFloatDataset, for values of any type of `size` bytes (`size` > 0): the chunk
+/// layout's value size (hdf5_layout.hpp) and the stored bytes against the declared values.
 inline void h5CheckStoredSize(const std::string& path, hid_t dataset, const char* name, uint64_t elements,
                               std::size_t size) {
+  h5CheckChunkValueSize(path, dataset, name, size);
   std::error_code error;
   const std::uintmax_t file_bytes = std::filesystem::file_size(path, error);
   const H5PropertyList create(H5Dget_create_plist(dataset));
