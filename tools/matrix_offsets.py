@@ -22,7 +22,7 @@ import statistics
 import sys
 
 HALVES = (("tune", "tuning"), ("val", "validation"))
-HIGHER_IS_BETTER = {"coverage"}
+HIGHER_IS_BETTER = {"coverage", "coverage_after_onset"}
 
 
 def read_score(path):

@@ -37,6 +37,7 @@ METRICS = {
     "vel_pct": ("velocity", "% of speed", False),
     "init_s": ("init", "s", False),
     "coverage_pct": ("coverage", "%", True),
+    "coverage_onset_pct": ("coverage after onset", "%", True),
 }
 
 
@@ -52,6 +53,8 @@ def rows_of(matrix, half, runs_dir):
         else:
             row.update(score)
         row["coverage_pct"] = 100.0 * row["coverage"] if row.get("coverage") is not None else 0.0
+        after = row.get("coverage_after_onset")
+        row["coverage_onset_pct"] = 100.0 * after if after is not None else row["coverage_pct"]
         rows.append(row)
     return rows
 
@@ -59,7 +62,7 @@ def rows_of(matrix, half, runs_dir):
 def value(row, key):
     """A figure of a row for ranking: a failed or missing figure is the worst possible."""
     _, _, higher_better = METRICS[key]
-    v = row.get(key) if row.get("status") == "ok" or key == "coverage_pct" else None
+    v = row.get(key) if row.get("status") == "ok" or key in ("coverage_pct", "coverage_onset_pct") else None
     if v is None or (isinstance(v, float) and not math.isfinite(v)):
         return -math.inf if higher_better else math.inf
     return float(v)
@@ -104,7 +107,7 @@ def summary_table(groups):
     for label, s in groups:
         cells = []
         for k in METRICS:
-            d = 1 if k in ("rte10_pct", "vel_pct", "coverage_pct") else 2
+            d = 1 if k in ("rte10_pct", "vel_pct", "coverage_pct", "coverage_onset_pct") else 2
             cells.append("%s / %s" % (cell(s[k]["median"], d), cell(s[k]["worst"], d)))
         lines.append("| %s | %d | %d | %d | %s |" % (label, s["n"], s["failed"], s["above2"], " | ".join(cells)))
     return "\n".join(lines)
@@ -119,7 +122,7 @@ def features(r):
 
 def sequence_table(rows):
     lines = ["| sequence | half | sensor | noise | scene | motion | status | ATE % | RTE@10 % | vel % | "
-             "init s (attempts) | init after onset s | coverage % | segments | features mean / median | note |",
+             "init s (attempts) | init after onset s | coverage % (after onset) | segments | features mean / median | note |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]  # fmt: skip
     for r in rows:
         ok = r.get("status") == "ok"
@@ -131,7 +134,7 @@ def sequence_table(rows):
             r["name"], r["half"], r["sensor"], r["noise"], r["scene"], r["motion"], r.get("status"),
             cell(r.get("ate_pct")) if ok else "–", cell(r.get("rte10_pct"), 1) if ok else "–",
             cell(r.get("vel_pct"), 1) if ok else "–", init, cell(r.get("init_after_onset_s")),
-            cell(r.get("coverage_pct"), 1), segments, features(r),
+            "%s (%s)" % (cell(r.get("coverage_pct"), 1), cell(r.get("coverage_onset_pct"), 1)), segments, features(r),
             (r.get("message") or "").replace("|", "/")[:160]))  # fmt: skip
     return "\n".join(lines)
 
@@ -188,7 +191,8 @@ def report(matrix, rows, args, figure_name):
           "ATE: RMSE after Sim(3) alignment in % of the evaluated ground-truth path; RTE@10 %: mean relative "
           "translation error over sub-trajectories of 10 % of the path; velocity: RMSE of the body velocity in % "
           "of the mean speed; init: event time from the start of the sequence to the first successful "
-          "initialization; coverage: share of the sequence with an estimate. A failed run is the worst value "
+          "initialization; coverage: share of the sequence with an estimate (after onset: of the part from the "
+          "motion onset on, since a monocular start needs motion). A failed run is the worst value "
           "of every figure ('failed').", "",
           "**Per half**", "",
           summary_table([(h, summarize([r for r in rows if r["half"] == h])) for h in halves]), ""]  # fmt: skip

@@ -126,6 +126,9 @@ def score(eval_json, stats, gt, est):
     s["motion_onset_s"] = onset - begin if onset is not None else None
     s["init_after_onset_s"] = (s["init_s"] - s["motion_onset_s"]) if s["init_s"] is not None and onset is not None else None
     s["coverage"] = coverage(est[:, 0], begin, end) if s["span_s"] else 0.0
+    # The same from the motion onset: a monocular start needs motion, so a still start bounds the above.
+    moving = onset is not None and end is not None and end > onset
+    s["coverage_after_onset"] = coverage(est[:, 0], onset, end) if moving else None
     s["events"] = (stats or {}).get("events")
     s["mean_active_features"] = fe.get("mean_active_features")
     s["median_active_features"] = fe.get("median_active_features")

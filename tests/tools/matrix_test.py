@@ -120,6 +120,15 @@ def units():
     onset = matrix_run.motion_onset(gt)
     check(onset is not None and abs(onset - 1.601) < 0.002, "motion onset is when the camera is 1 cm away (%s)" % onset)
     check(matrix_run.motion_onset(gt[:1000]) is None, "a still camera has no onset")
+    est_t = np.arange(1.7, 2.97, 0.05)  # an estimate from 1.7 s, 0.1 s after the onset, to 2.95 s
+    est = np.zeros((len(est_t), 8))
+    est[:, 0] = est_t
+    scored = matrix_run.score(None, dict(estimator=dict(initialized=True, initialized_at_s=1.9)), gt, est)
+    check(abs(scored["coverage"] - 1.25 / 2.999) < 1e-6, "coverage counts the still start (%s)" % scored["coverage"])
+    check(abs(scored["coverage_after_onset"] - 1.25 / (2.999 - onset)) < 1e-6,
+          "coverage after the onset counts from the onset (%s)" % scored["coverage_after_onset"])  # fmt: skip
+    check(matrix_run.score(None, {}, gt[:1000], est)["coverage_after_onset"] is None,
+          "a still camera has no coverage after onset")  # fmt: skip
 
     # a configuration's sensor section follows the sequence's sensor
     seq_dir = os.path.join(tmp, "seq346")
