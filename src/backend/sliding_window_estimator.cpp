@@ -152,7 +152,8 @@ InitResult SlidingWindowEstimator::findInitialMotion(int64_t earliest_ns, int64_
 }
 
 bool SlidingWindowEstimator::relaxed(int64_t t_ns) const {
-  return durationSeconds(first_measurement_ns_, t_ns) * 1e3 >= options_.config.init_relax_after_ms;
+  return restart_relaxed_ ||
+         durationSeconds(first_measurement_ns_, t_ns) * 1e3 >= options_.config.init_relax_after_ms;
 }
 
 BackendConfig SlidingWindowEstimator::initConfig(int64_t t_ns) const {
@@ -455,7 +456,10 @@ void SlidingWindowEstimator::restartInitialization(int64_t reset_ns) {
   last_init_attempt_ns_.reset();
   previous_start_motion_.reset();
   relaxed_feature_rejections_ = relaxed_other_rejections_ = 0;
-  relaxed_again_ = false;
+  // relaxed_again_ still says whether the previous start was granted the second relaxation.
+  restart_relaxed_ = options_.config.init_restart_short_relaxed && relaxed_again_;
+  relaxed_again_ = restart_relaxed_;
+  if (restart_relaxed_) ++stats_.init_restarts_relaxed;
   reset_ns_ = reset_ns;
 }
 

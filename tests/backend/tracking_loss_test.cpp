@@ -131,6 +131,56 @@ TEST(TrackingLoss, AMeasurementFromBeforeAGapDeliveredAfterItIsNotUsed) {
   EXPECT_GE(stats.segments[1].t0_ns, gap_to);
 }
 
+// Counts a scene of 150 features meets only once relaxed twice (240 features and 160 inliers, halved
+// twice): the first start waits for the second relaxation, granted because the once-relaxed attempts
+// lack features. After a gap, init_restart_short_relaxed begins the restart relaxed twice and it comes
+// sooner; off, the restart waits for the relaxation of the counts again.
+TEST(TrackingLoss, ARestartInASceneShortOfFeaturesBeginsRelaxedWhenAsked) {
+  SyntheticScene scene(150);
+  // Sideways back and forth, fastest (0.9 m/s) at 0 s and 2.1 s: the restart after the gap is bound by the
+  // counts, not by the motion.
+  scene.trajectory = [](double t) {
+    const Eigen::Vector3d p(0.6 * std::sin(1.5 * t), 0.1 * std::sin(1.1 * t), 0.05 * std::sin(0.9 * t));
+    const Eigen::Vector3d phi(0.03 * std::sin(1.2 * t), 0.04 * std::sin(0.8 * t), 0.02 * std::sin(t));
+    return lie::SE3(lie::so3::exp(phi), p);
+  };
+  const double duration = 3.0;
+  const int64_t gap_from = 1'500'000'000, gap_to = 1'900'000'000;
+  const std::vector<TrackMeasurement> ms = measurementsWithGap(scene, duration, gap_from, gap_to);
+  struct Restart {
+    int64_t first_start_ns = 0, delay_ns = 0;
+    uint64_t relaxed_again = 0, restarts_relaxed = 0;
+  };
+  auto restart = [&](bool relaxed) {
+    EstimatorOptions options = testing::syntheticSceneOptions();
+    options.config.init_min_features = 240;
+    options.config.init_min_inliers = 160;
+    options.config.init_relaxed_fraction = 0.5;
+    options.config.init_relax_after_ms = 250;
+    options.config.init_relax_again_after_ms = 500;
+    options.config.init_restart_short_relaxed = relaxed;
+    SlidingWindowEstimator estimator(options);
+    const auto run = driveWithGaps(estimator, ms, duration, gap_from, gap_to);
+    Restart r;
+    EXPECT_EQ(run.stats.segments.size(), 2u) << run.stats.init_last_failure;
+    if (run.stats.segments.size() != 2u) return r;
+    r.first_start_ns = run.stats.segments[0].initialized_at_ns;
+    r.delay_ns = run.stats.segments[1].initialized_at_ns - gap_to;
+    r.relaxed_again = run.stats.init_relaxed_again;
+    r.restarts_relaxed = run.stats.init_restarts_relaxed;
+    return r;
+  };
+  const Restart off = restart(false);
+  const Restart on = restart(true);
+  EXPECT_EQ(on.first_start_ns, off.first_start_ns);  // the first start is the same
+  EXPECT_GE(off.first_start_ns - ms.front().t_ns, 500'000'000) << "the first start waited for both relaxations";
+  EXPECT_EQ(off.restarts_relaxed, 0u);
+  EXPECT_GE(off.delay_ns, 250'000'000) << "off, the restart waits for the relaxation again";
+  EXPECT_EQ(on.relaxed_again, 1u);  // granted at the first start; the restart begins with it
+  EXPECT_EQ(on.restarts_relaxed, 1u);
+  EXPECT_LT(on.delay_ns, off.delay_ns) << on.delay_ns * 1e-9 << " s against " << off.delay_ns * 1e-9 << " s";
+}
+
 TEST(TrackingLoss, WithTheGapTestOffTheWindowBridgesTheGap) {
   const SyntheticScene scene(150);
   const double duration = 3.0;

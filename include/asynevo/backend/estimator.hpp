@@ -61,6 +61,8 @@ struct EstimatorStats {
   /// Times the counts were relaxed a second time (init_relax_again_after_ms; granted only where the
   /// once-relaxed attempts failed mostly for lack of features), over the first start and every restart.
   uint64_t init_relaxed_again = 0;
+  /// Restarts that began with both relaxations (init_restart_short_relaxed).
+  uint64_t init_restarts_relaxed = 0;
   /// The two views the estimator started from (valid once initialized).
   struct InitViews {
     std::string method;      ///< "two-view" or "multi-view"

@@ -199,6 +199,8 @@ class SlidingWindowEstimator : public Estimator {
   int relaxed_feature_rejections_ = 0;
   int relaxed_other_rejections_ = 0;
   bool relaxed_again_ = false;  ///< the second relaxation is granted (until the next restart)
+  /// init_restart_short_relaxed: this restart begins with both relaxations (until the next restart).
+  bool restart_relaxed_ = false;
   /// The motion the previous attempt found, when it found one (init_agreement_deg).
   std::optional<InitResult> previous_start_motion_;
   int64_t last_event_ns_ = 0;

@@ -86,6 +86,10 @@ struct BackendConfig {
   /// ones for lack of features: the counts are multiplied by init_relaxed_fraction once more, for scenes
   /// with very few features (a scene that has them and waits for parallax keeps its counts). 0 = never.
   double init_relax_again_after_ms = 500.0;
+  /// A restart after a segment ends, in a scene whose previous start was granted the second relaxation
+  /// (short of features), begins with the counts relaxed twice instead of waiting init_relax_after_ms
+  /// and init_relax_again_after_ms again: the scene is still short of features.
+  bool init_restart_short_relaxed = false;
   /// Which start is tried: "two-view" (two times, five-point RANSAC), "multi-view" (one constant twist
   /// fitted to every track of the window) or "both" (two-view first; once the counts are relaxed,
   /// multi-view when it fails).
@@ -168,6 +172,9 @@ struct BackendConfig {
     v("init_relax_again_after_ms", init_relax_again_after_ms,
       "initialization: event time of failed attempts after which the counts are relaxed by "
       "init_relaxed_fraction once more, when most once-relaxed attempts lacked features [ms] (0 = never)");
+    v("init_restart_short_relaxed", init_restart_short_relaxed,
+      "initialization: a restart in a scene whose previous start was relaxed twice (short of features) "
+      "begins relaxed twice");
     v("init_method", init_method, "initialization: two-view, multi-view or both (two-view first, multi-view once relaxed)");
     v("init_refine_rotations", init_refine_rotations,
       "initialization: refit the first knots' rotations to the tracks when too few landmarks triangulate");
