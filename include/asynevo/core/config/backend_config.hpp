@@ -89,7 +89,7 @@ struct BackendConfig {
   /// A restart after a segment ends, in a scene whose previous start was granted the second relaxation
   /// (short of features), begins with the counts relaxed twice instead of waiting init_relax_after_ms
   /// and init_relax_again_after_ms again: the scene is still short of features.
-  bool init_restart_short_relaxed = false;
+  bool init_restart_short_relaxed = true;
   /// Which start is tried: "two-view" (two times, five-point RANSAC), "multi-view" (one constant twist
   /// fitted to every track of the window) or "both" (two-view first; once the counts are relaxed,
   /// multi-view when it fails).
