@@ -196,6 +196,11 @@ DsecReader::DsecReader(const std::string& path, const ReaderOptions& options)
     }
   }
   events_ = lengths[0];
+  const hid_t columns[4] = {x_.get(), y_.get(), t_.get(), p_.get()};
+  for (int i = 0; i < 4; ++i) {
+    const H5Type type(H5Dget_type(columns[i]));
+    chunk_checks_[i] = BloscChunkCheck(path, columns[i], prefix + names[i], H5Tget_size(type.get()));
+  }
 
   if (group_ == "events" && h5PathExists(file_.get(), "t_offset")) {
     const H5Dataset offset(H5Dopen2(file_.get(), "t_offset", H5P_DEFAULT));
@@ -287,6 +292,7 @@ void DsecReader::readSlabs(uint64_t n, EventPacket& packet) {
   {
     const H5QuietErrors quiet;
     const uint64_t start = records_;
+    for (BloscChunkCheck& check : chunk_checks_) check.check(start, n);
     if (!readSlab(x_.get(), H5T_NATIVE_INT32, start, n, x_buffer_.data()) ||
         !readSlab(y_.get(), H5T_NATIVE_INT32, start, n, y_buffer_.data()) ||
         !readSlab(t_.get(), H5T_NATIVE_INT64, start, n, t_buffer_.data()) ||

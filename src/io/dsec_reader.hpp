@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "asynevo/io/event_reader.hpp"
+#include "blosc_chunk_check.hpp"
 #include "dsec_rectify.hpp"
 #include "event_checker.hpp"
 #include "hdf5_handle.hpp"
@@ -46,6 +47,7 @@ class DsecReader final : public EventReader {
   H5File file_;
   std::string group_;             // "events" or "prophesee/left"
   H5Dataset x_, y_, t_, p_;
+  BloscChunkCheck chunk_checks_[4];  // of x, y, t, p
   H5Dataset ms_index_;            // ms_to_idx, when present
   uint64_t events_ = 0;           // values in each of x, y, t, p
   uint64_t records_ = 0;          // records read so far (delivered, or dropped by the rectification)

@@ -293,6 +293,19 @@ TEST(DsecReader, UnavailableFilterNamesThePackageOrPluginPath) {
 
 // DSEC's own compression: Blosc (HDF5 filter 32001) with its Zstd codec, bit shuffle. Needs the Debian package
 // hdf5-filter-plugin-blosc-serial.
+// Found by the dsec_events fuzz harness (2026-11-27): the Blosc header of the second chunk of events/p
+// declares 0x76650030 compressed bytes for the 48 it stores; libblosc bounded its reads by that and read far
+// past the chunk on the second packet. Each chunk's header is now compared with the chunk as stored first.
+TEST(DsecReader, ABloscChunkWhoseHeaderMisstatesItsSizeIsRejected) {
+  if (H5Zfilter_avail(32001) <= 0) {
+    GTEST_SKIP() << "the HDF5 Blosc filter plugin is not installed (Debian: hdf5-filter-plugin-blosc-serial)";
+  }
+  const std::string path = std::string(ASYNEVO_FUZZ_CORPUS_DIR) + "/dsec_events/regress_blosc_cbytes.h5";
+  EXPECT_EQ(testing::errorOf(path, vga(1000)),
+            path + ": record 1000: dataset 'events/p': the chunk's Blosc header declares 1000 bytes compressed into "
+                   "1986330672, but the chunk holds 1000 bytes of values and stores 48 (corrupt chunk?)");
+}
+
 TEST(DsecReader, ReadsBloscZstdCompressedFiles) {
   constexpr H5Z_filter_t kBlosc = 32001;
   if (H5Zfilter_avail(kBlosc) <= 0) {
