@@ -8,17 +8,13 @@
 
 #include "asynevo/core/error.hpp"
 #include "hdf5_handle.hpp"
+#include "little_endian.hpp"
 
 namespace asynevo::io_detail {
 
 namespace {
 
 constexpr std::size_t kBloscHeaderBytes = 16;
-
-uint32_t le32(const uint8_t* p) {
-  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 | static_cast<uint32_t>(p[2]) << 16 |
-         static_cast<uint32_t>(p[3]) << 24;
-}
 
 }  // namespace
 
@@ -69,7 +65,7 @@ void BloscChunkCheck::checkChunk(uint64_t chunk) {
   uint32_t filters = 0;
   if (H5Dread_chunk(dataset_, H5P_DEFAULT, offset, &filters, bytes.data()) < 0)
     throw InputError::atRecord(path_, first_value, fmt::format("dataset '{}': cannot read its chunk", name_));
-  const uint32_t nbytes = le32(&bytes[4]), cbytes = le32(&bytes[12]);
+  const uint32_t nbytes = load32(&bytes[4]), cbytes = load32(&bytes[12]);
   if (cbytes != stored || nbytes != values_bytes) {
     throw InputError::atRecord(
         path_, first_value,

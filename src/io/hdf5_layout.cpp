@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <cstring>
 #include <deque>
 #include <filesystem>
@@ -106,8 +105,8 @@ uint64_t layoutValueSize(Cursor data, unsigned address_bytes) {
   if (version == 1 || version == 2) {
     dimensions = data.number(1, "the layout message");
     layout_class = data.number(1, "the layout message");
+    if (layout_class != kChunkedLayout) return 0;
     data.skip(5, "the layout message");
-    if (layout_class == 0) return 0;  // compact
     data.skip(address_bytes, "the layout message's address");
   } else if (version == 3) {
     layout_class = data.number(1, "the layout message");
@@ -125,7 +124,6 @@ uint64_t layoutValueSize(Cursor data, unsigned address_bytes) {
   } else {
     throw HeaderError{data.offset() - 1, fmt::format("data layout message of version {}", version)};
   }
-  if (layout_class != kChunkedLayout) return 0;
   if (dimensions < 2)
     throw HeaderError{data.offset(), fmt::format("chunked layout of {} dimensions", dimensions)};
   uint64_t value_size = 0;
@@ -191,16 +189,13 @@ uint64_t findLayoutValueSize(FileBytes& file, uint64_t header, uint64_t base, un
       throw HeaderError{chunk.address, "an object header continued without end"};
     const std::vector<uint8_t> bytes = file.read(chunk.address, chunk.length, "an object header chunk");
     std::size_t begin = 0, end = bytes.size();
-    // A version 2 continuation chunk starts with its signature; every version 2 chunk ends in a checksum.
+    // A version 2 continuation chunk is its signature, messages and a checksum (the first chunk's
+    // checksum follows the length its prefix states).
     if (version2 && chunks > 0) {
-      if (bytes.size() < 4 || std::memcmp(bytes.data(), "OCHK", 4) != 0)
-        throw HeaderError{chunk.address, "a header continuation without its OCHK signature"};
+      if (bytes.size() < 8 || std::memcmp(bytes.data(), "OCHK", 4) != 0)
+        throw HeaderError{chunk.address, "a header continuation without its OCHK signature and checksum"};
       begin = 4;
-    }
-    if (version2) {
-      if (end - begin < 4 && chunks > 0)
-        throw HeaderError{chunk.address, "a header chunk without its checksum"};
-      if (chunks > 0) end -= 4;
+      end -= 4;
     }
     const std::optional<uint64_t> found =
         scanMessages(Cursor(bytes, chunk.address, begin, end), version2, creation_order, address_bytes,

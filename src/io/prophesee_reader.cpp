@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "asynevo/core/error.hpp"
+#include "little_endian.hpp"
 #include "event_extent.hpp"
 
 namespace asynevo::io_detail {
@@ -56,10 +57,6 @@ int parseSize(const std::string& text) {
   return value;
 }
 
-uint32_t load32(const unsigned char* p) {
-  return static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) | (static_cast<uint32_t>(p[2]) << 16) |
-         (static_cast<uint32_t>(p[3]) << 24);
-}
 
 std::string formatLabel(const std::string& format) {
   if (format == "evt3") return "EVT 3.0";

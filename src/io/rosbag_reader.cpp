@@ -27,6 +27,7 @@
 #include <string_view>
 
 #include "asynevo/core/error.hpp"
+#include "little_endian.hpp"
 
 namespace asynevo::io_detail {
 
@@ -49,12 +50,6 @@ constexpr int kDvs128Size = 128;
 constexpr std::size_t kDvsEventBytes = 13;  // u16 x, u16 y, u32 sec, u32 nsec, u8 polarity
 constexpr int kEvtLimit = 2048;             // EVT 2.0/3.0 hold 11-bit x and y
 
-uint32_t load32(const unsigned char* p) {
-  return static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) | (static_cast<uint32_t>(p[2]) << 16) |
-         (static_cast<uint32_t>(p[3]) << 24);
-}
-uint64_t load64(const unsigned char* p) { return load32(p) | (static_cast<uint64_t>(load32(p + 4)) << 32); }
-uint16_t load16(const unsigned char* p) { return static_cast<uint16_t>(p[0] | (p[1] << 8)); }
 
 bool isEventType(const std::string& type) { return type == kEventArray || type == kEventPacket; }
 
