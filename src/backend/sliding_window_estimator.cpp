@@ -156,10 +156,24 @@ bool SlidingWindowEstimator::relaxed(int64_t t_ns) const {
          durationSeconds(first_measurement_ns_, t_ns) * 1e3 >= options_.config.init_relax_after_ms;
 }
 
+int SlidingWindowEstimator::relaxations(int64_t t_ns) const {
+  return relaxed(t_ns) ? (relaxed_again_ ? 2 : 1) : 0;
+}
+
+void SlidingWindowEstimator::rejectAttempt(int64_t t_ns, InitRejection rejection, std::string failure) {
+  ++stats_.init_rejections[static_cast<int>(rejection)];
+  if (stats_.init_attempt_log.size() < kMaxInitAttemptsLogged) {
+    stats_.init_attempt_log.push_back(
+        InitAttempt{t_ns, relaxations(t_ns), static_cast<int>(tracks_.size()), rejection, failure});
+  } else {
+    ++stats_.init_attempts_not_logged;
+  }
+  stats_.init_last_failure = std::move(failure);
+}
+
 BackendConfig SlidingWindowEstimator::initConfig(int64_t t_ns) const {
   BackendConfig config = options_.config;
-  const int times = relaxed(t_ns) ? (relaxed_again_ ? 2 : 1) : 0;
-  const double fraction = std::pow(config.init_relaxed_fraction, times);
+  const double fraction = std::pow(config.init_relaxed_fraction, relaxations(t_ns));
   config.init_min_features = static_cast<int>(std::ceil(config.init_min_features * fraction));
   config.init_min_inliers = static_cast<int>(std::ceil(config.init_min_inliers * fraction));
   return config;
@@ -173,17 +187,17 @@ void SlidingWindowEstimator::updateRelaxedAgain(int64_t t_ns) {
   if (relaxed_again_) ++stats_.init_relaxed_again;
 }
 
-bool SlidingWindowEstimator::agreesWithPreviousAttempt(const InitResult& motion) {
+bool SlidingWindowEstimator::agreesWithPreviousAttempt(const InitResult& motion, int64_t t_ns) {
   const double bound = options_.config.init_agreement_deg;
   if (bound <= 0) return true;
   const std::optional<InitResult> previous = std::exchange(previous_start_motion_, motion);
   const double angle = previous ? travelAngleDeg(*previous, motion) : 180.0;
   if (angle <= bound) return true;
-  stats_.init_last_failure =
-      previous ? fmt::format("{} direction of travel {:.1f} deg from the previous attempt's (need <= {})",
-                             motion.method, angle, bound)
-               : fmt::format("{} motion found, waiting for the next attempt to agree with it", motion.method);
-  ++stats_.init_rejections[static_cast<int>(InitRejection::Agreement)];
+  rejectAttempt(t_ns, InitRejection::Agreement,
+                previous ? fmt::format("{} direction of travel {:.1f} deg from the previous attempt's (need <= {})",
+                                       motion.method, angle, bound)
+                         : fmt::format("{} motion found, waiting for the next attempt to agree with it",
+                                       motion.method));
   return false;
 }
 
@@ -211,17 +225,15 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
       ++(features ? relaxed_feature_rejections_ : relaxed_other_rejections_);
     }
     previous_start_motion_.reset();
-    stats_.init_last_failure = motion.failure;
-    ++stats_.init_rejections[static_cast<int>(motion.rejection)];
+    rejectAttempt(t_ns, motion.rejection, motion.failure);
     return;
   }
-  if (!agreesWithPreviousAttempt(motion)) return;
+  if (!agreesWithPreviousAttempt(motion, t_ns)) return;
   // Knots on a grid from t_a through the start's motion, at the monocular scale of 1 map unit per second
   // over its span (docs/backend.md).
   Trajectory trajectory = constantTwistTrajectory(motion, t_ns, knot_dt_ns_);
   if (trajectory.size() < 3) {
-    stats_.init_last_failure = "initialization window shorter than three knots";
-    ++stats_.init_rejections[static_cast<int>(InitRejection::Features)];
+    rejectAttempt(t_ns, InitRejection::Features, "initialization window shorter than three knots");
     return;
   }
   trajectory_ = std::move(trajectory);
@@ -261,9 +273,9 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
     landmarks = retriangulate();
   }
   if (landmarks < min_landmarks) {
-    stats_.init_last_failure = fmt::format("{} pose found ({} inliers) but only {} landmarks triangulated (need {})",
-                                           motion.method, motion.inliers, landmarks, min_landmarks);
-    ++stats_.init_rejections[static_cast<int>(InitRejection::Landmarks)];
+    rejectAttempt(t_ns, InitRejection::Landmarks,
+                  fmt::format("{} pose found ({} inliers) but only {} landmarks triangulated (need {})",
+                              motion.method, motion.inliers, landmarks, min_landmarks));
     trajectory_ = Trajectory();
     anchors_.clear();
     for (auto& [id, track] : tracks_) track.triangulated = false;

@@ -288,6 +288,9 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
   summary.peak_memory_mb = peakMemoryMb();
   if (!summary.estimator.segments.empty())
     writer.writeText("segments.txt", backend::segmentsFileText(summary.estimator.segments));
+  if (!summary.estimator.init_attempt_log.empty())
+    writer.writeText("init_attempts.txt", backend::initAttemptsFileText(summary.estimator.init_attempt_log,
+                                                                      summary.estimator.init_attempts_not_logged));
   writer.writeText("stats.json", runStatsJson(summary, options) + "\n");
   return summary;
 }
@@ -298,7 +301,8 @@ std::string initializationFailureMessage(const RunSummary& s) {
       "initialization never succeeded after {} attempt(s): {}\n"
       "  counts: {} events over {:.3f} s, {} features created, {} measurements sent to the backend, "
       "at most {} features active at once\n"
-      "  a textured scene and enough camera motion (parallax) are needed; see docs/pipeline.md",
+      "  a textured scene and enough camera motion (parallax) are needed; init_attempts.txt in the run "
+      "folder says why each attempt failed; see docs/pipeline.md",
       e.init_attempts,
       e.init_last_failure.empty() ? "no attempt was possible (too few measurements)" : e.init_last_failure,
       s.pipeline.events, s.pipeline.spanSeconds(), s.frontend.features_created, e.measurements_received,

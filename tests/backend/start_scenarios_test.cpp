@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <string>
 #include <random>
 #include <vector>
 
+#include "asynevo/backend/init_attempt.hpp"
 #include "asynevo/backend/sliding_window_estimator.hpp"
 #include "estimator_harness.hpp"
 
@@ -83,6 +86,53 @@ TEST(StartScenarios, TwoSecondsOfStaticCameraWaitForMotionThenStartWithinHalfASe
   ASSERT_GT(shifted.size(), 20u);
   const auto a = testing::accuracy(shifted);
   EXPECT_LT(a.ate_rmse, 0.03 * a.path_length) << a.ate_rmse << " over " << a.path_length;
+}
+
+TEST(StartScenarios, EveryFailedAttemptOfAWaitingStartIsLoggedWithItsReason) {
+  // The static start above: every failed attempt is in the log, in time order, with the reason its count
+  // was added to, the relaxation it was made at and the trajectories it had; init_attempts.txt lists them.
+  const SyntheticScene scene(150);
+  const auto ms = staticThenMoving(scene, 1.5, 1.0);
+  EstimatorOptions options = testing::syntheticSceneOptions();
+  SlidingWindowEstimator estimator(options);
+  const auto run = testing::driveEstimator(estimator, ms, 2.5);
+  ASSERT_TRUE(run.stats.initialized) << run.stats.init_last_failure;
+  const auto& log = run.stats.init_attempt_log;
+  // Each attempt either failed (and is logged) or started a segment.
+  EXPECT_EQ(log.size() + run.stats.segments.size(), run.stats.init_attempts);
+  EXPECT_EQ(run.stats.init_attempts_not_logged, 0u);
+  std::array<uint64_t, kInitRejections> counted{};
+  for (std::size_t i = 0; i < log.size(); ++i) {
+    ++counted[static_cast<int>(log[i].rejection)];
+    EXPECT_NE(log[i].rejection, InitRejection::None);
+    EXPECT_FALSE(log[i].failure.empty());
+    EXPECT_LT(log[i].t_ns, run.stats.initialized_at_ns);
+    if (i > 0) {
+      EXPECT_GT(log[i].t_ns, log[i - 1].t_ns);
+      EXPECT_GE(log[i].relaxations, log[i - 1].relaxations);  // one start: the relaxations only grow
+    }
+  }
+  EXPECT_EQ(counted, run.stats.init_rejections);
+  EXPECT_EQ(log.back().failure, run.stats.init_last_failure);
+  // The standing camera's attempts stop at the motion check, once relaxed after init_relax_after_ms.
+  ASSERT_GT(log.size(), 20u);
+  EXPECT_EQ(log[10].rejection, InitRejection::Motion);
+  EXPECT_GT(log[10].tracks, 0);
+  EXPECT_EQ(log.front().relaxations, 0);
+  EXPECT_EQ(log.back().relaxations, 1);
+
+  const std::string text = initAttemptsFileText(log, 0);
+  EXPECT_EQ(static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')), log.size() + 3);
+  EXPECT_NE(text.find("# t_s relaxations tracks rejection failure\n"), std::string::npos);
+  EXPECT_NE(text.find(" motion "), std::string::npos);
+}
+
+TEST(StartScenarios, TheAttemptsFileSaysHowManyAttemptsItLeftOut) {
+  std::vector<InitAttempt> attempts = {{1'500'000'000, 1, 42, InitRejection::Parallax, "median parallax\n2 px"}};
+  const std::string text = initAttemptsFileText(attempts, 7);
+  EXPECT_NE(text.find("1.500000000 1 42 parallax median parallax 2 px\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("# 7 later failed attempts not listed (the log keeps the first 20000)\n"), std::string::npos)
+      << text;
 }
 
 TEST(StartScenarios, APlanarSceneStartsAndIsTracked) {

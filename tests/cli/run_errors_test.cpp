@@ -104,7 +104,7 @@ TEST(RunCommand, ARealSliceRunsAndWritesEveryRunFolderFile) {
   const auto r = runAsynevo("run --dataset " + dataPath("ecd/shapes_rotation") + " --out " + dir.file("out"));
   EXPECT_NE(r.output.find("events          20000"), std::string::npos) << r.output;
   for (const char* f : {"stamped_traj_estimate.txt", "velocities.txt", "tracks.txt", "landmarks.ply",
-                        "timing.csv", "stats.json", "config.yaml", "stamped_groundtruth.txt"})
+                        "timing.csv", "stats.json", "config.yaml", "stamped_groundtruth.txt", "init_attempts.txt"})
     EXPECT_TRUE(std::filesystem::exists(dir.file(std::string("out/") + f))) << f;
   std::ifstream gt(dir.file("out/stamped_groundtruth.txt"));
   std::string line;

@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include "asynevo/backend/init_attempt.hpp"
 #include "asynevo/backend/init_result.hpp"
 #include "asynevo/backend/segment.hpp"
 #include "asynevo/backend/trajectory.hpp"
@@ -52,6 +53,9 @@ struct EstimatorStats {
   std::string init_last_failure;  ///< why the last initialization attempt failed (with counts)
   /// Failed attempts by the furthest check they reached (indexed by InitRejection; see rejectionName).
   std::array<uint64_t, kInitRejections> init_rejections{};
+  /// Every failed attempt, oldest first, up to kMaxInitAttemptsLogged (init_attempts.txt).
+  std::vector<InitAttempt> init_attempt_log;
+  uint64_t init_attempts_not_logged = 0;  ///< failed attempts past kMaxInitAttemptsLogged
   /// Attempts whose knots were refitted (init_refine_rotations) after too few landmarks triangulated.
   uint64_t init_rotation_refits = 0;
   /// Starts whose first solve let more trajectories become landmarks (init_retriangulate).

@@ -96,8 +96,8 @@ class SlidingWindowEstimator : public Estimator {
   /// The window's landmarks, their measurements in it and those measured in the newest knot interval.
   void countWindow(UpdateRecord& record) const;
   /// init_agreement_deg: the start's motion agrees with the one the previous attempt found. Keeps the
-  /// motion for the next attempt; on disagreement records the failure.
-  bool agreesWithPreviousAttempt(const InitResult& motion);
+  /// motion for the next attempt; on disagreement records the failed attempt at t_ns.
+  bool agreesWithPreviousAttempt(const InitResult& motion, int64_t t_ns);
   /// The configuration of an initialization attempt at t_ns: the counts relaxed once attempts have
   /// failed for init_relax_after_ms, and once more after init_relax_again_after_ms in a scene short of
   /// features (relaxed_again_).
@@ -109,6 +109,10 @@ class SlidingWindowEstimator : public Estimator {
   void updateRelaxedAgain(int64_t t_ns);
   /// Attempts have failed for init_relax_after_ms of event time since the first measurement.
   bool relaxed(int64_t t_ns) const;
+  /// How many times the counts of an attempt at t_ns are relaxed: 0, 1 or 2.
+  int relaxations(int64_t t_ns) const;
+  /// Records a failed initialization attempt at t_ns: the last failure, the count by reason and the log.
+  void rejectAttempt(int64_t t_ns, InitRejection rejection, std::string failure);
   /// The motion over the initialization window by config.init_method: two-view, multi-view, or both
   /// (the multi-view start once relaxed and the two-view start has failed).
   InitResult findInitialMotion(int64_t earliest_ns, int64_t t_b_ns, const BackendConfig& config,

@@ -1,0 +1,30 @@
+#pragma once
+// The log of failed initialization attempts (docs/method/initialization.md, "Why a start waits"): when,
+// at which relaxation of the counts, with how many feature trajectories, and why each attempt did not
+// start. A run writes it as init_attempts.txt; stats.json keeps only the counts by reason.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "asynevo/backend/init_result.hpp"
+
+namespace asynevo::backend {
+
+struct InitAttempt {
+  int64_t t_ns = 0;     ///< event time of the attempt
+  int relaxations = 0;  ///< 0, 1 or 2: how many times the counts were relaxed for it
+  int tracks = 0;       ///< feature trajectories buffered for the start
+  InitRejection rejection = InitRejection::None;  ///< the furthest check it reached
+  std::string failure;                            ///< which check failed, with the counts
+};
+
+/// Failed attempts kept in memory: a stream that never starts tries 20 times a second, and the log of a
+/// long one is cut here (the number left out is counted and written).
+inline constexpr std::size_t kMaxInitAttemptsLogged = 20000;
+
+/// init_attempts.txt: a comment header, then `t_s relaxations tracks rejection failure` per attempt, and
+/// a last comment line with the number of attempts not listed, when there are any.
+std::string initAttemptsFileText(const std::vector<InitAttempt>& attempts, uint64_t not_logged);
+
+}  // namespace asynevo::backend
