@@ -657,6 +657,7 @@ void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
   if (n < 4) return;
   const float radius2 = static_cast<float>(neighbour_radius_px_ * neighbour_radius_px_);
   const float limit = static_cast<float>(config_.max_neighbour_disagreement_px);
+  const float fraction = static_cast<float>(config_.neighbour_disagreement_fraction);
   auto median = [](std::vector<float>& v) {
     const std::size_t m = v.size() / 2;
     std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m), v.end());
@@ -694,8 +695,10 @@ void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
     const Slot& s = slots_[static_cast<std::size_t>(c.slot)];
     if (neighbour_dx_.size() < 3 || !positionAt(s, ta, xa, ya) || !positionAt(s, tb, xb, yb)) continue;
     ++stats_.neighbour_tests;
-    const float ex = (xb - xa) - median(neighbour_dx_), ey = (yb - ya) - median(neighbour_dy_);
-    if (ex * ex + ey * ey > limit * limit) neighbour_drops_.push_back(c.slot);
+    const float mx = median(neighbour_dx_), my = median(neighbour_dy_);
+    const float ex = (xb - xa) - mx, ey = (yb - ya) - my;
+    const float bound = limit + fraction * std::sqrt(mx * mx + my * my);
+    if (ex * ex + ey * ey > bound * bound) neighbour_drops_.push_back(c.slot);
   }
   for (int slot : neighbour_drops_) drop(slot, DropReason::kNeighbour, t_ns, sink);
 }

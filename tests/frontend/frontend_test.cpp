@@ -430,6 +430,9 @@ TEST(Frontend, NeighbourMotionTestParametersAreValidated) {
   FrontendConfig negative = c;
   negative.max_neighbour_disagreement_px = -1;
   EXPECT_THROW(negative.validate(), ConfigError);
+  FrontendConfig negative_fraction = c;
+  negative_fraction.neighbour_disagreement_fraction = -0.5;
+  EXPECT_THROW(negative_fraction.validate(), ConfigError);
 }
 
 }  // namespace

@@ -115,6 +115,19 @@ TEST(SimulatedAccuracy, NeighbourMotionTestLowersTheBoxesBadTracks) {
   EXPECT_LE(on.all.bad_tracks, 8);
 }
 
+// neighbour_disagreement_fraction widens the limit by a share of the neighbours' own displacement: on the
+// same stream it drops fewer features than the fixed limit, and still some.
+TEST(SimulatedAccuracy, NeighbourMotionLimitThatGrowsWithTheMotionDropsFewer) {
+  FrontendStats fixed_stats, relative_stats;
+  FrontendConfig relative = neighbourConfig(4.0);
+  relative.neighbour_disagreement_fraction = 0.5;
+  run("boxes", "6dof", 0.6, 1, neighbourConfig(4.0), &fixed_stats);
+  run("boxes", "6dof", 0.6, 1, relative, &relative_stats);
+  EXPECT_GT(relative_stats.neighbour_tests, 0u);
+  EXPECT_GT(neighbourDrops(relative_stats), 0u);
+  EXPECT_LT(neighbourDrops(relative_stats), neighbourDrops(fixed_stats));
+}
+
 // With a limit no displacement reaches, the test runs (features are evaluated) but changes nothing.
 TEST(SimulatedAccuracy, NeighbourMotionTestIsInertBelowItsLimit) {
   FrontendStats inert_stats;

@@ -77,6 +77,8 @@ struct FrontendConfig {
   /// Neighbour-motion test: a feature whose displacement over the last neighbour_window_ms differs by more
   /// than this from the median displacement of its neighbour_count nearest features is dropped (0 = off).
   double max_neighbour_disagreement_px = 4.0;
+  /// ... plus this fraction of the length of the neighbours' median displacement (0 = a fixed bound).
+  double neighbour_disagreement_fraction = 0.0;
   double neighbour_check_ms = 5.0;  ///< event-time period of the neighbour-motion test (all features at once)
   double neighbour_window_ms = 60.0;  ///< time span of the compared displacements (<= 100)
   int neighbour_count = 6;            ///< nearest features whose median displacement is the reference
@@ -162,6 +164,10 @@ struct FrontendConfig {
       "neighbour-motion test: a feature is dropped when its displacement over the last neighbour_window_ms "
       "differs by more than this from the median displacement of its nearest features (a tracker creeping "
       "over a soft texture moves unlike the scene around it); 0 disables the test");
+    v("neighbour_disagreement_fraction", neighbour_disagreement_fraction,
+      "neighbour-motion test: the bound grows by this fraction of the length of the neighbours' median "
+      "displacement (depth differences between neighbours part their image motions in proportion to it); "
+      "0 keeps the bound at max_neighbour_disagreement_px");
     v("neighbour_check_ms", neighbour_check_ms, "event-time period of the neighbour-motion test");
     v("neighbour_window_ms", neighbour_window_ms,
       "neighbour-motion test: time span of the compared displacements");
