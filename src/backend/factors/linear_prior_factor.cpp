@@ -63,7 +63,10 @@ LinearPriorSqrt linearPriorFromInformation(const Eigen::MatrixXd& H, const Eigen
 
 LinearPriorFactor::LinearPriorFactor(std::vector<LinearPriorBlock> blocks, Eigen::MatrixXd J,
                                      Eigen::VectorXd r)
-    : blocks_(std::move(blocks)), J_(std::move(J)), r_(std::move(r)) {
+    : LinearPriorFactor(std::move(blocks), LinearPriorSqrt{std::move(J), std::move(r), 0, {}, {}}) {}
+
+LinearPriorFactor::LinearPriorFactor(std::vector<LinearPriorBlock> blocks, LinearPriorSqrt sqrt_form)
+    : blocks_(std::move(blocks)), J_(std::move(sqrt_form.J)), r_(std::move(sqrt_form.r)) {
   int offset = 0;
   for (const LinearPriorBlock& block : blocks_) {
     if (block.kind == LinearPriorBlock::Kind::kPose && block.ambientSize() != kPoseSize) {
@@ -77,18 +80,15 @@ LinearPriorFactor::LinearPriorFactor(std::vector<LinearPriorBlock> blocks, Eigen
     throw std::invalid_argument("LinearPriorFactor: J must be (r.size() × total tangent size)");
   }
   set_num_residuals(static_cast<int>(r_.size()));
-  information_.noalias() = J_.transpose() * J_;
-  gradient_.noalias() = J_.transpose() * r_;
-}
-
-LinearPriorFactor::LinearPriorFactor(std::vector<LinearPriorBlock> blocks, LinearPriorSqrt sqrt_form)
-    : LinearPriorFactor(std::move(blocks), std::move(sqrt_form.J), std::move(sqrt_form.r)) {
-  if (sqrt_form.information.size() > 0) {
+  if (sqrt_form.information.size() > 0) {  // J*ᵀJ* and J*ᵀr* as the marginalization had them: no product
     if (sqrt_form.information.rows() != J_.cols() || sqrt_form.information.cols() != J_.cols() ||
         sqrt_form.gradient.size() != J_.cols())
       throw std::invalid_argument("LinearPriorFactor: information and gradient must match J's columns");
     information_ = std::move(sqrt_form.information);
     gradient_ = std::move(sqrt_form.gradient);
+  } else {
+    information_.noalias() = J_.transpose() * J_;
+    gradient_.noalias() = J_.transpose() * r_;
   }
 }
 
