@@ -634,7 +634,7 @@ bool Frontend::positionAt(const Slot& s, int64_t t_ns, float& x, float& y) const
 }
 
 void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
-  // Neighbour-motion consistency (docs/frontend.md §Neighbour-motion test). Nearby points of a scene move
+  // Neighbour-motion consistency (docs/method/frontend_quality.md). Nearby points of a scene move
   // alike in the image (the motion field is smooth away from depth discontinuities), while a tracker
   // creeping around a soft blob, lagging behind a fast motion or jumping to a similar structure does not
   // follow its neighbours. Each initialized feature's displacement over [t_a, t_b], t_b = now - lag,
