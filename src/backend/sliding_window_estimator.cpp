@@ -49,7 +49,8 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options)
       knot_dt_ns_(std::llround(options.config.knot_dt_ms * 1e6)),
       measurement_dt_ns_(std::llround(options.config.track_measurement_dt_ms * 1e6)),
       se3_manifold_(std::make_unique<SE3Manifold>()),
-      huber_(std::make_shared<ceres::HuberLoss>(options.config.huber_px / options.config.pixel_sigma)) {
+      huber_(std::make_shared<ceres::HuberLoss>(options.config.huber_px / options.config.pixel_sigma)),
+      final_velocity_(std::max(options.config.linear_velocity_span_knots, 0)) {
   options_.config.validate();
   Q_c_.setZero();
   for (int i = 0; i < 6; ++i) Q_c_(i, i) = options_.config.q_c[static_cast<std::size_t>(i)];
@@ -451,6 +452,7 @@ void SlidingWindowEstimator::loseTracking(SegmentEnd reason, int64_t t_ns, int64
     for (const auto& [id, track] : tracks_)
       if (track.triangulated) finalizeLandmark(track);
   }
+  final_velocity_.flush(final_knots_);  // the segment's last knots
   Segment& segment = stats_.segments.back();
   segment.end = reason;
   segment.ended_at_ns = t_ns;
@@ -966,6 +968,7 @@ void SlidingWindowEstimator::finish() {
   }
   if (!tracking_) return;
   for (const auto& [t, knot] : trajectory_.knots()) finalizeKnot(knot);
+  final_velocity_.flush(final_knots_);
   for (const auto& [id, track] : tracks_) {
     if (track.triangulated) finalizeLandmark(track);
   }
@@ -976,7 +979,7 @@ void SlidingWindowEstimator::finish() {
 }
 
 void SlidingWindowEstimator::finalizeKnot(const Knot& knot) {
-  final_knots_.push_back(knot);
+  final_velocity_.push(knot, final_knots_);
   Segment& segment = stats_.segments.back();  // knots are final only inside a segment
   if (segment.knots == 0) segment.t0_ns = knot.t_ns;
   segment.t1_ns = knot.t_ns;

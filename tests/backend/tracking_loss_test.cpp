@@ -101,6 +101,42 @@ TEST(TrackingLoss, AGapInTheEventsEndsTheSegmentAndTheEstimatorStartsAgainAfterI
   }
 }
 
+// linear_velocity_span_knots: the linear velocities come from the final positions of each segment; the
+// knots, their poses, angular velocities and segments are those of the GP velocity's run, every knot
+// written once (the last ones of a segment when it ends, not with the next segment).
+TEST(TrackingLoss, VelocitiesFromThePositionsKeepEveryKnotAndNeverSpanTwoSegments) {
+  const SyntheticScene scene(150);
+  const double duration = 4.0;
+  const int64_t gap_from = 1'600'000'000, gap_to = 2'000'000'000;
+  const std::vector<TrackMeasurement> ms = measurementsWithGap(scene, duration, gap_from, gap_to);
+  auto gp_options = testing::syntheticSceneOptions();
+  gp_options.config.linear_velocity_span_knots = 0;
+  SlidingWindowEstimator gp_velocity(gp_options);
+  const auto base = driveWithGaps(gp_velocity, ms, duration, gap_from, gap_to);
+  auto options = testing::syntheticSceneOptions();
+  options.config.linear_velocity_span_knots = 2;
+  SlidingWindowEstimator from_poses(options);
+  const auto run = driveWithGaps(from_poses, ms, duration, gap_from, gap_to);
+  ASSERT_EQ(run.stats.segments.size(), 2u);
+  ASSERT_EQ(run.knots.size(), base.knots.size());
+  expectFiniteAndIncreasing(run.knots);
+  for (std::size_t i = 0; i < run.knots.size(); ++i) {
+    ASSERT_EQ(run.knots[i].t_ns, base.knots[i].t_ns) << i;
+    ASSERT_EQ(run.knots[i].pose, base.knots[i].pose) << i;
+    EXPECT_NE(run.knots[i].twist().head<3>(), base.knots[i].twist().head<3>()) << i;
+    EXPECT_EQ(run.knots[i].twist().tail<3>(), base.knots[i].twist().tail<3>()) << i;
+  }
+  for (const Segment& s : run.stats.segments) {
+    const auto knots = knotsIn(run.knots, s);
+    ASSERT_GT(knots.size(), 4u);
+    // The first knot's velocity is the forward difference over its own segment's next two knots.
+    const lie::SE3 a = knots[0].T_w_c(), b = knots[2].T_w_c();
+    const double dt = (knots[2].t_ns - knots[0].t_ns) * 1e-9;
+    const Eigen::Vector3d v = a.rotation().transpose() * (b.translation() - a.translation()) / dt;
+    EXPECT_LT((knots[0].twist().head<3>() - v).norm(), 1e-9 * (1 + v.norm())) << s.t0_ns;
+  }
+}
+
 TEST(TrackingLoss, AMeasurementFromBeforeAGapDeliveredAfterItIsNotUsed) {
   // Markers come once per millisecond of event time, and a tracker may deliver a measurement only
   // after the gap, stamped after the last marker before it. Such a measurement must not start a track

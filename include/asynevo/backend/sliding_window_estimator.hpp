@@ -17,6 +17,7 @@
 #include "asynevo/backend/feature_track.hpp"
 #include "asynevo/backend/trajectory.hpp"
 #include "asynevo/backend/triangulation.hpp"
+#include "asynevo/backend/velocity_from_poses.hpp"
 #include "asynevo/core/config/backend_config.hpp"
 
 namespace ceres {
@@ -210,6 +211,7 @@ class SlidingWindowEstimator : public Estimator {
   int64_t last_event_ns_ = 0;
 
   std::vector<Knot> final_knots_;
+  VelocityFromPoses final_velocity_;  ///< the twist of each final knot, from the segment's final poses
   std::vector<UpdateRecord> records_;
   std::vector<LandmarkPoint> final_landmarks_;
   EstimatorStats stats_;

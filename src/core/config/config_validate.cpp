@@ -105,6 +105,7 @@ void BackendConfig::validate() const {
   requireRange("backend.track_measurement_dt_ms", track_measurement_dt_ms, 0.0, 1e4);
   requireRange("backend.max_solver_time_s", max_solver_time_s, 1e-4, 1e4);
   requireRange("backend.solver_threads", solver_threads, 1, 64);
+  requireRange("backend.linear_velocity_span_knots", linear_velocity_span_knots, 0, 20);
   if (window_solver != "ceres" && window_solver != "builtin")
     throw ConfigError(
         fmt::format("configuration value backend.window_solver = '{}' is not one of ceres, builtin", window_solver));

@@ -68,6 +68,10 @@ struct BackendConfig {
   /// backend/window_solver.hpp; factors evaluated on solver_threads) or "ceres" (Ceres, DENSE_SCHUR,
   /// solver_threads).
   std::string window_solver = "builtin";
+  /// The linear velocity written with each final knot: the central difference of the final positions over
+  /// ±this many knots of its segment (backend/velocity_from_poses.hpp); 0 = the GP's knot velocity. The
+  /// angular velocity is the GP's either way.
+  int linear_velocity_span_knots = 3;
 
   // --- initialization ---
   /// Median parallax of the two views in pixels (ray angle × focal): first the raw image motion, then,
@@ -159,6 +163,9 @@ struct BackendConfig {
       "threads of a window solve: builtin, factor evaluation (same result on any number); ceres, "
       "Ceres threads (1 = deterministic)");
     v("window_solver", window_solver, "the window's solver: builtin (own Schur solver) or ceres");
+    v("linear_velocity_span_knots", linear_velocity_span_knots,
+      "the linear velocity written with each final knot: central difference of the final positions over "
+      "+-this many knots of its segment (0 = the GP's knot velocity; the angular velocity is the GP's)");
     v("init_min_parallax_px", init_min_parallax_px,
       "initialization: median parallax, raw and with the rotation removed [px]");
     v("init_min_features", init_min_features, "initialization: features seen at both times");
