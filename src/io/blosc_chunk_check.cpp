@@ -61,6 +61,16 @@ void BloscChunkCheck::checkChunk(uint64_t chunk) {
                                            "(corrupt chunk?)",
                                            name_, stored, values_bytes));
   }
+  // H5Dread_chunk writes as many bytes as the chunk lookup says (H5Dget_chunk_storage_size); in a corrupt
+  // index that can differ from the size the index lists (H5Dget_chunk_info_by_coord), and the read would
+  // run past a buffer of the listed size.
+  hsize_t read_size = 0;
+  if (H5Dget_chunk_storage_size(dataset_, offset, &read_size) < 0 || read_size != stored) {
+    throw InputError::atRecord(path_, first_value,
+                               fmt::format("dataset '{}': its chunk index lists {} bytes for the chunk, "
+                                           "the chunk lookup {} (corrupt chunk index?)",
+                                           name_, stored, read_size));
+  }
   std::vector<uint8_t> bytes(stored);
   uint32_t filters = 0;
   if (H5Dread_chunk(dataset_, H5P_DEFAULT, offset, &filters, bytes.data()) < 0)

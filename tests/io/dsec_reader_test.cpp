@@ -306,6 +306,23 @@ TEST(DsecReader, ABloscChunkWhoseHeaderMisstatesItsSizeIsRejected) {
                    "1986330672, but the chunk holds 1000 bytes of values and stores 48 (corrupt chunk?)");
 }
 
+// The dsec_events fuzz findings of 2026-11-28 (fuzz/corpus/dsec_events/regress_chunk_index_size_*.h5): a
+// chunk index that lists one size for a Blosc chunk while libhdf5's chunk lookup, which H5Dread_chunk
+// reads by, says another; the check's read ran past its buffer (heap-buffer-overflow under ASan). Now
+// an InputError naming the dataset and the record.
+TEST(DsecReader, AChunkIndexThatMisstatesAChunksSizeIsRejected) {
+  if (H5Zfilter_avail(32001) <= 0) {
+    GTEST_SKIP() << "the HDF5 Blosc filter plugin is not installed (Debian: hdf5-filter-plugin-blosc-serial)";
+  }
+  for (int i = 1; i <= 3; ++i) {
+    const std::string path =
+        std::string(ASYNEVO_FUZZ_CORPUS_DIR) + "/dsec_events/regress_chunk_index_size_" + std::to_string(i) + ".h5";
+    const std::string error = testing::errorOf(path, vga(256));
+    EXPECT_NE(error.find(path + ": record "), std::string::npos) << error;
+    EXPECT_NE(error.find("(corrupt chunk index?)"), std::string::npos) << error;
+  }
+}
+
 TEST(DsecReader, ReadsBloscZstdCompressedFiles) {
   constexpr H5Z_filter_t kBlosc = 32001;
   if (H5Zfilter_avail(kBlosc) <= 0) {
