@@ -42,6 +42,15 @@ std::vector<TrackMeasurement> measurementsWithGap(const SyntheticScene& scene, d
   return ms;
 }
 
+/// The estimator with `options` on the scene with events silent over [1.6 s, 2.0 s).
+testing::EstimatorRun runWithGap(const EstimatorOptions& options, double duration_s) {
+  const SyntheticScene scene(150);
+  const int64_t gap_from = 1'600'000'000, gap_to = 2'000'000'000;
+  SlidingWindowEstimator estimator(options);
+  return driveWithGaps(estimator, measurementsWithGap(scene, duration_s, gap_from, gap_to), duration_s, gap_from,
+                       gap_to);
+}
+
 std::vector<Knot> knotsIn(const std::vector<Knot>& knots, const Segment& s) {
   std::vector<Knot> out;
   for (const Knot& k : knots)
@@ -105,18 +114,12 @@ TEST(TrackingLoss, AGapInTheEventsEndsTheSegmentAndTheEstimatorStartsAgainAfterI
 // knots, their poses, angular velocities and segments are those of the GP velocity's run, every knot
 // written once (the last ones of a segment when it ends, not with the next segment).
 TEST(TrackingLoss, VelocitiesFromThePositionsKeepEveryKnotAndNeverSpanTwoSegments) {
-  const SyntheticScene scene(150);
-  const double duration = 4.0;
-  const int64_t gap_from = 1'600'000'000, gap_to = 2'000'000'000;
-  const std::vector<TrackMeasurement> ms = measurementsWithGap(scene, duration, gap_from, gap_to);
   auto gp_options = testing::syntheticSceneOptions();
   gp_options.config.linear_velocity_span_knots = 0;
-  SlidingWindowEstimator gp_velocity(gp_options);
-  const auto base = driveWithGaps(gp_velocity, ms, duration, gap_from, gap_to);
+  const auto base = runWithGap(gp_options, 4.0);
   auto options = testing::syntheticSceneOptions();
   options.config.linear_velocity_span_knots = 2;
-  SlidingWindowEstimator from_poses(options);
-  const auto run = driveWithGaps(from_poses, ms, duration, gap_from, gap_to);
+  const auto run = runWithGap(options, 4.0);
   ASSERT_EQ(run.stats.segments.size(), 2u);
   ASSERT_EQ(run.knots.size(), base.knots.size());
   expectFiniteAndIncreasing(run.knots);
@@ -218,14 +221,9 @@ TEST(TrackingLoss, ARestartInASceneShortOfFeaturesBeginsRelaxedWhenAsked) {
 }
 
 TEST(TrackingLoss, WithTheGapTestOffTheWindowBridgesTheGap) {
-  const SyntheticScene scene(150);
-  const double duration = 3.0;
-  const int64_t gap_from = 1'600'000'000, gap_to = 2'000'000'000;
-  const std::vector<TrackMeasurement> ms = measurementsWithGap(scene, duration, gap_from, gap_to);
   EstimatorOptions options = testing::syntheticSceneOptions();
   options.config.loss_max_event_gap_ms = 0;
-  SlidingWindowEstimator estimator(options);
-  const auto run = driveWithGaps(estimator, ms, duration, gap_from, gap_to);
+  const auto run = runWithGap(options, 3.0);
   ASSERT_GE(run.stats.segments.size(), 1u);
   EXPECT_NE(run.stats.segments[0].end, SegmentEnd::kEventGap);
 }

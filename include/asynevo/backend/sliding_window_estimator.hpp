@@ -211,7 +211,7 @@ class SlidingWindowEstimator : public Estimator {
   int64_t last_event_ns_ = 0;
 
   std::vector<Knot> final_knots_;
-  VelocityFromPoses final_velocity_;  ///< the twist of each final knot, from the segment's final poses
+  VelocityFromPoses final_velocity_;  ///< each final knot's linear velocity, from the segment's positions
   std::vector<UpdateRecord> records_;
   std::vector<LandmarkPoint> final_landmarks_;
   EstimatorStats stats_;

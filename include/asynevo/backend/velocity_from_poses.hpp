@@ -28,8 +28,6 @@ class VelocityFromPoses {
   /// The segment ended: appends every knot still held, with the neighbours the segment has.
   void flush(std::vector<Knot>& out);
 
-  int span() const { return span_; }
-
  private:
   void emit(std::size_t i, std::vector<Knot>& out) const;
 
