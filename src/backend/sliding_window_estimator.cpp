@@ -49,9 +49,16 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options)
       knot_dt_ns_(std::llround(options.config.knot_dt_ms * 1e6)),
       measurement_dt_ns_(std::llround(options.config.track_measurement_dt_ms * 1e6)),
       se3_manifold_(std::make_unique<SE3Manifold>()),
-      huber_(std::make_shared<ceres::HuberLoss>(options.config.huber_px / options.config.pixel_sigma)),
       final_velocity_(std::max(options.config.linear_velocity_span_knots, 0)) {
   options_.config.validate();
+  if (options_.config.pixel_bounds_focal_px > 0) {  // the bounds are angles: in this camera's pixels
+    BackendConfig& c = options_.config;
+    const double scale = options_.focal_px / c.pixel_bounds_focal_px;
+    for (double* px : {&c.huber_px, &c.outlier_px, &c.track_outlier_rms_px, &c.track_split_px,
+                       &c.max_triangulation_px, &c.loss_max_median_px})
+      *px *= scale;
+  }
+  huber_ = std::make_shared<ceres::HuberLoss>(options_.config.huber_px / options_.config.pixel_sigma);
   Q_c_.setZero();
   for (int i = 0; i < 6; ++i) Q_c_(i, i) = options_.config.q_c[static_cast<std::size_t>(i)];
 }
@@ -395,6 +402,10 @@ void SlidingWindowEstimator::update(int64_t t_ns) {
   ++stats_.updates;
   stats_.max_window_knots = std::max(stats_.max_window_knots, record.window_knots);
   checkTracking(t_ns, record.landmarks);
+  if (tracking_ && options_.config.loss_write_accepted_window) {
+    accepted_window_.clear();
+    for (const auto& [t, knot] : trajectory_.knots()) accepted_window_.push_back(knot);
+  }
 }
 
 void SlidingWindowEstimator::countWindow(UpdateRecord& record) const {
@@ -413,13 +424,13 @@ void SlidingWindowEstimator::checkTracking(int64_t t_ns, int landmarks) {
   const int64_t newest = trajectory_.newestTime();
   for (const auto& [t, knot] : trajectory_.knots()) {
     if (!finiteKnot(knot)) {
-      loseTracking(SegmentEnd::kNonFinite, t_ns, std::numeric_limits<int64_t>::min(), t_ns);
+      loseTrackingAtFailedSolve(SegmentEnd::kNonFinite, t_ns);
       return;
     }
   }
   // A solve that no longer explains its measurements: the window's estimate is not kept.
   if (c.loss_max_median_px > 0 && landmarks > 0 && last_median_residual_px_ > c.loss_max_median_px) {
-    loseTracking(SegmentEnd::kResidual, t_ns, std::numeric_limits<int64_t>::min(), t_ns);
+    loseTrackingAtFailedSolve(SegmentEnd::kResidual, t_ns);
     return;
   }
   stats_.max_median_residual_px = std::max(stats_.max_median_residual_px, last_median_residual_px_);
@@ -428,7 +439,7 @@ void SlidingWindowEstimator::checkTracking(int64_t t_ns, int landmarks) {
   if (depth > 0 && segment_depth_ == 0) segment_depth_ = depth;
   const double ratio = depth > 0 ? std::max(depth / segment_depth_, segment_depth_ / depth) : 0.0;
   if (c.loss_depth_ratio > 0 && ratio > c.loss_depth_ratio) {
-    loseTracking(SegmentEnd::kDepth, t_ns, std::numeric_limits<int64_t>::min(), t_ns);
+    loseTrackingAtFailedSolve(SegmentEnd::kDepth, t_ns);
     return;
   }
   stats_.max_depth_ratio = std::max(stats_.max_depth_ratio, ratio);
@@ -437,6 +448,27 @@ void SlidingWindowEstimator::checkTracking(int64_t t_ns, int landmarks) {
   } else if (c.loss_unsupported_ms > 0 && durationSeconds(last_supported_ns_, newest) * 1e3 > c.loss_unsupported_ms) {
     loseTracking(SegmentEnd::kUnsupported, t_ns, last_supported_ns_, t_ns);
   }
+}
+
+void SlidingWindowEstimator::loseTrackingAtFailedSolve(SegmentEnd reason, int64_t t_ns) {
+  constexpr int64_t kNone = std::numeric_limits<int64_t>::min();
+  if (!options_.config.loss_write_accepted_window || accepted_window_.empty()) {
+    loseTracking(reason, t_ns, kNone, t_ns);
+    return;
+  }
+  // Knots marginalized since the accepted update were written with its values; the rest of its window
+  // is written now, and the failed solve's window is dropped whole.
+  const Segment& segment = stats_.segments.back();
+  const int64_t written_until = segment.knots > 0 ? segment.t1_ns : kNone;
+  int64_t kept_until = written_until;
+  for (const Knot& knot : accepted_window_) {
+    if (knot.t_ns <= written_until || !finiteKnot(knot)) continue;
+    finalizeKnot(knot);
+    kept_until = knot.t_ns;
+  }
+  for (const auto& [t, knot] : trajectory_.knots()) stats_.knots_dropped_at_loss += t > kept_until;
+  trajectory_ = Trajectory();  // nothing of the failed window is written below
+  loseTracking(reason, t_ns, kNone, t_ns);
 }
 
 void SlidingWindowEstimator::loseTracking(SegmentEnd reason, int64_t t_ns, int64_t keep_until_ns,
@@ -448,7 +480,7 @@ void SlidingWindowEstimator::loseTracking(SegmentEnd reason, int64_t t_ns, int64
       ++stats_.knots_dropped_at_loss;
     }
   }
-  if (keep_until_ns >= trajectory_.newestTime()) {  // the window is kept whole: so are its landmarks
+  if (!trajectory_.empty() && keep_until_ns >= trajectory_.newestTime()) {  // kept whole: so are its landmarks
     for (const auto& [id, track] : tracks_)
       if (track.triangulated) finalizeLandmark(track);
   }
@@ -457,6 +489,7 @@ void SlidingWindowEstimator::loseTracking(SegmentEnd reason, int64_t t_ns, int64
   segment.end = reason;
   segment.ended_at_ns = t_ns;
   trajectory_ = Trajectory();
+  accepted_window_.clear();
   prior_.reset();
   anchors_.clear();
   tracking_ = false;

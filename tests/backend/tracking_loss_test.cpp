@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <vector>
 
@@ -270,6 +271,67 @@ TEST(TrackingLoss, MeasurementsThatStopFittingEndTheSegmentByResidualWithoutWrit
   const auto kept = knotsIn(run.knots, first);
   ASSERT_GT(kept.size(), 5u);
   EXPECT_LT(kept.back().t_ns, first.ended_at_ns);
+}
+
+// loss_write_accepted_window: the same residual loss, but the knots the last accepted update left in
+// the window are written instead of dropped; the failed solve's knots are not, and nothing else changes.
+TEST(TrackingLoss, AResidualLossCanWriteTheWindowOfTheLastAcceptedUpdate) {
+  const SyntheticScene scene(150);
+  auto ms = scene.measurements(3.0, 0.01, 0.4, 0.3);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> jump(-0.075f, 0.075f);
+  for (TrackMeasurement& m : ms) {
+    if (m.t_ns < 1'500'000'000) continue;
+    m.xn += jump(rng);
+    m.yn += jump(rng);
+  }
+  auto run = [&](bool write_accepted) {
+    EstimatorOptions options = testing::syntheticSceneOptions();
+    options.config.track_outlier_rms_px = 0;
+    options.config.loss_write_accepted_window = write_accepted;
+    SlidingWindowEstimator estimator(options);
+    return testing::driveEstimator(estimator, ms, 3.0);
+  };
+  const auto dropped = run(false), written = run(true);
+  ASSERT_TRUE(dropped.stats.initialized && written.stats.initialized);
+  ASSERT_EQ(written.stats.segments.size(), dropped.stats.segments.size());
+  const Segment &a = dropped.stats.segments[0], &b = written.stats.segments[0];
+  ASSERT_EQ(b.end, SegmentEnd::kResidual);
+  EXPECT_EQ(b.ended_at_ns, a.ended_at_ns);
+  expectFiniteAndIncreasing(written.knots);
+  const auto kept_a = knotsIn(dropped.knots, a), kept_b = knotsIn(written.knots, b);
+  ASSERT_GT(kept_b.size(), kept_a.size());
+  // The knots written either way are the same knots; the accepted window adds the ones after them, up
+  // to one knot interval before the update that failed.
+  for (std::size_t i = 0; i < kept_a.size(); ++i) {
+    EXPECT_EQ(kept_b[i].t_ns, kept_a[i].t_ns) << i;
+    EXPECT_EQ(kept_b[i].pose, kept_a[i].pose) << i;
+  }
+  const int64_t knot_dt = std::llround(testing::syntheticSceneOptions().config.knot_dt_ms * 1e6);
+  EXPECT_LT(kept_b.back().t_ns, b.ended_at_ns);
+  EXPECT_GE(kept_b.back().t_ns, b.ended_at_ns - 2 * knot_dt);
+  EXPECT_LT(written.stats.knots_dropped_at_loss, dropped.stats.knots_dropped_at_loss);
+  EXPECT_GT(written.stats.knots_dropped_at_loss, 0u);
+  // The accepted knots are as accurate as the segment written without them.
+  const auto acc_a = testing::accuracy(kept_a), acc_b = testing::accuracy(kept_b);
+  EXPECT_LT(acc_b.ate_rmse / acc_b.path_length, 0.02);
+  EXPECT_LT(acc_b.ate_rmse, 2 * acc_a.ate_rmse + 1e-3);
+  // The restart is untouched: every knot after the first segment is the same.
+  const auto after = [&](const testing::EstimatorRun& r, int64_t t) {
+    std::vector<Knot> out;
+    for (const Knot& k : r.knots)
+      if (k.t_ns > t) out.push_back(k);
+    return out;
+  };
+  const auto rest_a = after(dropped, a.ended_at_ns), rest_b = after(written, b.ended_at_ns);
+  ASSERT_EQ(rest_a.size(), rest_b.size());
+  for (std::size_t i = 0; i < rest_a.size(); ++i) {
+    EXPECT_EQ(rest_b[i].pose, rest_a[i].pose) << i;
+    EXPECT_EQ(rest_b[i].velocity, rest_a[i].velocity) << i;
+  }
+  std::printf("segment 0: %zu -> %zu knots, last %.3f s (loss at %.3f s), ATE %.4f -> %.4f of %.3f m\n",
+              kept_a.size(), kept_b.size(), kept_b.back().t_ns * 1e-9, b.ended_at_ns * 1e-9, acc_a.ate_rmse,
+              acc_b.ate_rmse, acc_b.path_length);
 }
 
 TEST(TrackingLoss, UnsupportedWindowsEndTheSegmentOnlyWhenEnabled) {

@@ -150,6 +150,9 @@ class SlidingWindowEstimator : public Estimator {
   /// keep_until_ns are written, the rest dropped; the map is cleared and initialization starts again
   /// with measurements from reset_ns on.
   void loseTracking(SegmentEnd reason, int64_t t_ns, int64_t keep_until_ns, int64_t reset_ns);
+  /// A loss whose solve failed (residual, depth, non-finite): the window's knots are dropped, or, with
+  /// loss_write_accepted_window, those of the last accepted update not yet written are written instead.
+  void loseTrackingAtFailedSolve(SegmentEnd reason, int64_t t_ns);
   /// Forgets the buffered trajectories and starts initialization afresh with measurements from
   /// reset_ns on (after a tracking loss, or a gap in the events before the first start).
   void restartInitialization(int64_t reset_ns);
@@ -209,6 +212,10 @@ class SlidingWindowEstimator : public Estimator {
   /// The motion the previous attempt found, when it found one (init_agreement_deg).
   std::optional<InitResult> previous_start_motion_;
   int64_t last_event_ns_ = 0;
+
+  /// loss_write_accepted_window: the window's knots after the newest update that passed every test of
+  /// checkTracking (empty before the segment's first such update).
+  std::vector<Knot> accepted_window_;
 
   std::vector<Knot> final_knots_;
   VelocityFromPoses final_velocity_;  ///< each final knot's linear velocity, from the segment's positions

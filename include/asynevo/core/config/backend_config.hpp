@@ -33,6 +33,11 @@ struct BackendConfig {
   int min_track_measurements = 5;      ///< measurements needed before a trajectory is triangulated
   double min_parallax_deg = 1.0;       ///< minimum angle between the first and last rays
   double max_triangulation_px = 3.0;   ///< maximum reprojection error of a fresh triangulation
+  /// Resolution rule for the window's pixel bounds (huber_px, outlier_px, track_outlier_rms_px,
+  /// track_split_px, max_triangulation_px, loss_max_median_px): > 0, they are given for a camera of this
+  /// focal length and scale with the camera's focal length / this value, i.e. they are angles; 0, they
+  /// are the sensor's own pixels. pixel_sigma (the weight) is not scaled.
+  double pixel_bounds_focal_px = 0.0;
   double min_depth = 0.05;             ///< minimum depth in map units (cheirality)
   /// A landmark deeper than this factor times the median depth of the window's landmarks, or shallower
   /// than the median divided by it, is not created, and one that drifts there in a solve goes back to
@@ -123,6 +128,9 @@ struct BackendConfig {
   double loss_max_median_px = 3.0;
   /// The median landmark depth leaving [d₀/r, d₀·r] (d₀: at the segment's start) ends it (0 = off).
   double loss_depth_ratio = 20.0;
+  /// At a residual, depth or non-finite loss, write the window's knots as the last update that passed
+  /// every test left them (the failed solve's knots are dropped either way).
+  bool loss_write_accepted_window = true;
 
   template <class V>
   void visit(V& v) {
@@ -141,6 +149,9 @@ struct BackendConfig {
     v("min_track_measurements", min_track_measurements, "measurements before a trajectory is triangulated");
     v("min_parallax_deg", min_parallax_deg, "minimum ray angle to triangulate a trajectory [deg]");
     v("max_triangulation_px", max_triangulation_px, "maximum reprojection error of a new landmark [px]");
+    v("pixel_bounds_focal_px", pixel_bounds_focal_px,
+      "resolution rule: the window's pixel bounds are for a camera of this focal length and scale with the "
+      "camera's focal length / this [px] (0 = the sensor's own pixels)");
     v("min_depth", min_depth, "minimum landmark depth (map units)");
     v("landmark_depth_range", landmark_depth_range,
       "landmarks beyond this factor of the median landmark depth, either way, are not kept (0 = off)");
@@ -201,6 +212,9 @@ struct BackendConfig {
       "segment [px] (0 = off)");
     v("loss_depth_ratio", loss_depth_ratio,
       "tracking loss: the median landmark depth changing by more than this factor ends the segment (0 = off)");
+    v("loss_write_accepted_window", loss_write_accepted_window,
+      "tracking loss: at a residual, depth or non-finite loss, write the window's knots of the last update that "
+      "passed every test");
   }
   void validate() const;
 };
