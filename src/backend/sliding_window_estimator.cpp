@@ -51,9 +51,9 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options)
       se3_manifold_(std::make_unique<SE3Manifold>()),
       final_velocity_(std::max(options.config.linear_velocity_span_knots, 0)) {
   options_.config.validate();
-  if (options_.config.pixel_bounds_focal_px > 0) {  // the bounds are angles: in this camera's pixels
+  if (options_.config.pixel_bounds_focal_px > 0) {  // the bounds are angles above the reference focal length
     BackendConfig& c = options_.config;
-    const double scale = options_.focal_px / c.pixel_bounds_focal_px;
+    const double scale = std::max(1.0, options_.focal_px / c.pixel_bounds_focal_px);
     for (double* px : {&c.huber_px, &c.outlier_px, &c.track_outlier_rms_px, &c.track_split_px,
                        &c.max_triangulation_px, &c.loss_max_median_px})
       *px *= scale;

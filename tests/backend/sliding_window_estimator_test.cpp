@@ -128,6 +128,37 @@ TEST(SlidingWindowEstimator, SameInputGivesIdenticalOutput) {
   expectSameKnots(a, b);
 }
 
+// pixel_bounds_focal_px: the window's pixel bounds are given for a camera of that focal length; a camera
+// of a longer one scales them by the ratio (the same run as bounds scaled by hand), a shorter one not.
+TEST(SlidingWindowEstimator, PixelBoundsScaleWithTheFocalLengthAboveTheReference) {
+  const SyntheticScene scene(150);
+  // 0.8 px at the scene's focal length is 4 px for a camera five times finer (focal_px 1000): many
+  // measurements miss the 3 px triangulation and 5 px outlier bounds there.
+  const auto measurements = scene.measurements(2.0, 0.01, 0.4, 0.8);
+  EstimatorOptions fine = defaultOptions();
+  fine.focal_px = 1000;
+  EstimatorOptions rule = fine;
+  rule.config.pixel_bounds_focal_px = 200;  // x5
+  EstimatorOptions by_hand = fine;
+  for (double* px : {&by_hand.config.huber_px, &by_hand.config.outlier_px, &by_hand.config.track_outlier_rms_px,
+                     &by_hand.config.track_split_px, &by_hand.config.max_triangulation_px,
+                     &by_hand.config.loss_max_median_px})
+    *px *= 5;
+  const RunResult pixels = runEstimator(measurements, 2.0, fine);
+  const RunResult scaled = runEstimator(measurements, 2.0, rule);
+  ASSERT_TRUE(scaled.stats.initialized) << scaled.stats.init_last_failure;
+  expectSameKnots(scaled, runEstimator(measurements, 2.0, by_hand));
+  const auto high_error = static_cast<std::size_t>(TriangulationFailure::kHighError);
+  EXPECT_LT(scaled.stats.triangulation_failures[high_error], pixels.stats.triangulation_failures[high_error]);
+  EXPECT_GT(scaled.stats.landmarks_created, pixels.stats.landmarks_created);
+  // A camera with a shorter focal length than the reference keeps its pixel bounds.
+  EstimatorOptions coarse = defaultOptions();
+  coarse.focal_px = 150;
+  EstimatorOptions coarse_rule = coarse;
+  coarse_rule.config.pixel_bounds_focal_px = 200;
+  expectSameKnots(runEstimator(measurements, 2.0, coarse_rule), runEstimator(measurements, 2.0, coarse));
+}
+
 TEST(SlidingWindowEstimator, SubsamplesEachTracksMeasurementsInTime) {
   // Measurements every 10 ms; with track_measurement_dt_ms 20 every other one of a track is not used.
   const SyntheticScene scene(150);

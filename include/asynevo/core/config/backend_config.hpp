@@ -35,8 +35,9 @@ struct BackendConfig {
   double max_triangulation_px = 3.0;   ///< maximum reprojection error of a fresh triangulation
   /// Resolution rule for the window's pixel bounds (huber_px, outlier_px, track_outlier_rms_px,
   /// track_split_px, max_triangulation_px, loss_max_median_px): > 0, they are given for a camera of this
-  /// focal length and scale with the camera's focal length / this value, i.e. they are angles; 0, they
-  /// are the sensor's own pixels. pixel_sigma (the weight) is not scaled.
+  /// focal length and a camera of a longer one scales them by its focal length / this value (they are
+  /// angles there; never below the pixel value); 0, they are the sensor's own pixels. pixel_sigma (the
+  /// weight) is not scaled.
   double pixel_bounds_focal_px = 0.0;
   double min_depth = 0.05;             ///< minimum depth in map units (cheirality)
   /// A landmark deeper than this factor times the median depth of the window's landmarks, or shallower
@@ -150,8 +151,8 @@ struct BackendConfig {
     v("min_parallax_deg", min_parallax_deg, "minimum ray angle to triangulate a trajectory [deg]");
     v("max_triangulation_px", max_triangulation_px, "maximum reprojection error of a new landmark [px]");
     v("pixel_bounds_focal_px", pixel_bounds_focal_px,
-      "resolution rule: the window's pixel bounds are for a camera of this focal length and scale with the "
-      "camera's focal length / this [px] (0 = the sensor's own pixels)");
+      "resolution rule: the window's pixel bounds are for a camera of this focal length; a longer one scales "
+      "them by its focal length / this [px] (0 = the sensor's own pixels)");
     v("min_depth", min_depth, "minimum landmark depth (map units)");
     v("landmark_depth_range", landmark_depth_range,
       "landmarks beyond this factor of the median landmark depth, either way, are not kept (0 = off)");
