@@ -245,10 +245,10 @@ TEST(TrackingLoss, NonFiniteMeasurementsAreDroppedAndCounted) {
   expectFiniteAndIncreasing(run.knots);
 }
 
-TEST(TrackingLoss, MeasurementsThatStopFittingEndTheSegmentByResidualWithoutWritingTheBadWindow) {
+/// 3 s of the scene whose measurements, from 1.5 s on, jump by up to ±15 px: no scene explains them.
+std::vector<TrackMeasurement> measurementsThatStopFitting() {
   const SyntheticScene scene(150);
   auto ms = scene.measurements(3.0, 0.01, 0.4, 0.3);
-  // From 1.5 s on, every measurement jumps by up to ±15 px: no scene explains them any more.
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> jump(-0.075f, 0.075f);
   for (TrackMeasurement& m : ms) {
@@ -256,6 +256,11 @@ TEST(TrackingLoss, MeasurementsThatStopFittingEndTheSegmentByResidualWithoutWrit
     m.xn += jump(rng);
     m.yn += jump(rng);
   }
+  return ms;
+}
+
+TEST(TrackingLoss, MeasurementsThatStopFittingEndTheSegmentByResidualWithoutWritingTheBadWindow) {
+  const auto ms = measurementsThatStopFitting();
   EstimatorOptions options = testing::syntheticSceneOptions();
   options.config.track_outlier_rms_px = 0;  // keep the trajectories: the test is about the window
   SlidingWindowEstimator estimator(options);
@@ -276,15 +281,7 @@ TEST(TrackingLoss, MeasurementsThatStopFittingEndTheSegmentByResidualWithoutWrit
 // loss_write_accepted_window: the same residual loss, but the knots the last accepted update left in
 // the window are written instead of dropped; the failed solve's knots are not, and nothing else changes.
 TEST(TrackingLoss, AResidualLossCanWriteTheWindowOfTheLastAcceptedUpdate) {
-  const SyntheticScene scene(150);
-  auto ms = scene.measurements(3.0, 0.01, 0.4, 0.3);
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> jump(-0.075f, 0.075f);
-  for (TrackMeasurement& m : ms) {
-    if (m.t_ns < 1'500'000'000) continue;
-    m.xn += jump(rng);
-    m.yn += jump(rng);
-  }
+  const auto ms = measurementsThatStopFitting();
   auto run = [&](bool write_accepted) {
     EstimatorOptions options = testing::syntheticSceneOptions();
     options.config.track_outlier_rms_px = 0;
