@@ -452,12 +452,9 @@ void SlidingWindowEstimator::checkTracking(int64_t t_ns, int landmarks) {
 
 void SlidingWindowEstimator::loseTrackingAtFailedSolve(SegmentEnd reason, int64_t t_ns) {
   constexpr int64_t kNone = std::numeric_limits<int64_t>::min();
-  if (!options_.config.loss_write_accepted_window || accepted_window_.empty()) {
-    loseTracking(reason, t_ns, kNone, t_ns);
-    return;
-  }
-  // Knots marginalized since the accepted update were written with its values; the rest of its window
-  // is written now, and the failed solve's window is dropped whole.
+  // accepted_window_ is kept only with loss_write_accepted_window. Knots marginalized since the accepted
+  // update were written with its values; the rest of its window is written now, and the failed solve's
+  // knots it covers leave the window unwritten; loseTracking drops (and counts) the newer ones.
   const Segment& segment = stats_.segments.back();
   const int64_t written_until = segment.knots > 0 ? segment.t1_ns : kNone;
   int64_t kept_until = written_until;
@@ -466,8 +463,8 @@ void SlidingWindowEstimator::loseTrackingAtFailedSolve(SegmentEnd reason, int64_
     finalizeKnot(knot);
     kept_until = knot.t_ns;
   }
-  for (const auto& [t, knot] : trajectory_.knots()) stats_.knots_dropped_at_loss += t > kept_until;
-  trajectory_ = Trajectory();  // nothing of the failed window is written below
+  auto& knots = trajectory_.knots();
+  knots.erase(knots.begin(), knots.upper_bound(kept_until));
   loseTracking(reason, t_ns, kNone, t_ns);
 }
 
