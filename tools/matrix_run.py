@@ -3,8 +3,12 @@
 estimate, and the sequence's score (docs/evaluation_matrix.md, "What is measured").
 
   matrix_run.py --asynevo BIN --dataset SEQ_DIR --config FILE --run-dir DIR --score FILE
-                [--sequence NAME] [--timeout S] [--replay-of RECORDED_RUN_DIR --replay-bin BIN
-                [--replay-skip-ms MS]]
+                [--sequence NAME] [--timeout S] [--skip-ms MS] [--replay-of RECORDED_RUN_DIR
+                --replay-bin BIN [--replay-skip-ms MS]]
+
+--skip-ms leaves out the events of the sequence's first MS milliseconds (`asynevo run --skip-ms`): the
+start then comes from later in the stream (start offsets). The score still counts time, coverage and
+the motion onset from the sequence's ground truth, as for a replay with --replay-skip-ms.
 
 With --replay-of, the frontend does not run: the backend replays the tracks that run folder recorded
 (bench_replay_tracks, exact: the same tracks and order as in the run), with the backend section of
@@ -185,6 +189,8 @@ def run_full(args):
     """`asynevo run` on the sequence: (record, stats.json)."""
     config = config_for(args.config, args.dataset, args.run_dir)
     cmd = [args.asynevo, "run", "--dataset", args.dataset, "--config", config, "--out", args.run_dir]
+    if args.skip_ms:
+        cmd += ["--skip-ms", "%g" % args.skip_ms]
     code, wall, out = run_logged(cmd, os.path.join(args.run_dir, "run.log"), args.timeout)
     rec = dict(command=cmd, exit_code=code, process_wall_s=round(wall, 2))
     if code is None:
@@ -275,9 +281,15 @@ def main():
     p.add_argument("--replay-bin", help="bench_replay_tracks (with --replay-of)")
     p.add_argument("--replay-skip-ms", type=float, default=0.0,
                    help="with --replay-of: skip the tracks' first MS milliseconds (start offsets)")
+    p.add_argument("--skip-ms", type=float, default=0.0,
+                   help="a full run: skip the events' first MS milliseconds (start offsets)")
     args = p.parse_args()
     if args.replay_of and not args.replay_bin:
         p.error("--replay-of needs --replay-bin")
+    if args.skip_ms and args.replay_of:
+        p.error("--skip-ms is for full runs; a replay takes --replay-skip-ms")
+    if not (args.skip_ms >= 0 and args.replay_skip_ms >= 0):
+        p.error("--skip-ms and --replay-skip-ms take durations >= 0")
     os.makedirs(args.run_dir, exist_ok=True)
     rec, stats = run_replay(args) if args.replay_of else run_full(args)
     rec["sequence"] = args.sequence or os.path.basename(os.path.normpath(args.dataset))

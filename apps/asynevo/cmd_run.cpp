@@ -33,6 +33,7 @@ void runRun(RunCliOptions& options) {
   if (options.run.dataset.empty() == options.frames.empty())
     throw Error("give exactly one of --dataset PATH (events) and --frames DIR (intensity frames)");
   if (!options.frames.empty()) {
+    if (options.run.skip_ms > 0) throw Error("--skip-ms applies to an event stream (--dataset), not to --frames");
     pipeline::FramesRunOptions frames;
     frames.frames = options.frames;
     frames.calib = options.run.calib;
@@ -116,6 +117,11 @@ void addRunCommand(CLI::App& app) {
                   "play the event stream this many times back to back (soak tests; ground truth is then not "
                   "written)")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--skip-ms", run.skip_ms,
+                  "leave out the events less than this long after the stream's first event, as if the recording "
+                  "had begun later (the evaluation matrix's start offsets)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->callback([] { runRun(options); });
 }

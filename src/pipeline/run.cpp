@@ -19,6 +19,7 @@
 #include "asynevo/io/groundtruth_reader.hpp"
 #include "asynevo/io/rosbag_topics.hpp"
 #include "asynevo/io/repeat_reader.hpp"
+#include "asynevo/io/skip_reader.hpp"
 
 namespace asynevo::pipeline {
 
@@ -201,10 +202,13 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
                             options.rectify_map},
                            &summary.warnings);
   if (options.repeat < 1) throw ConfigError(fmt::format("--repeat must be at least 1, not {}", options.repeat));
-  std::unique_ptr<EventReader> reader =
+  if (!(options.skip_ms >= 0))
+    throw ConfigError(fmt::format("--skip-ms must be a duration >= 0 ms, not {}", options.skip_ms));
+  std::unique_ptr<EventReader> reader = skipStartOfStream(
       options.repeat == 1
           ? openEventReader(files.events, reader_options)
-          : repeatEvents([&] { return openEventReader(files.events, reader_options); }, options.repeat);
+          : repeatEvents([&] { return openEventReader(files.events, reader_options); }, options.repeat),
+      std::llround(options.skip_ms * 1e6));
   summary.dataset_events = files.events;
   summary.format = reader->info().format;
   summary.width = reader->info().width;
@@ -250,6 +254,7 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
   RunFolderWriter writer(options.out);
   runEvents(*reader, camera, config, options, writer, summary, progress, observer);
   summary.rectified_outside = reader->stats().rectified_outside;
+  summary.events_skipped_at_start = reader->stats().skipped_at_start;
 
   // The ground truth: --gt-topic, else a file beside the events, else a bag's only pose topic
   // (loadDatasetGroundTruth). Problems are warnings: the estimate is written either way.
@@ -313,8 +318,11 @@ std::string runSummaryText(const RunSummary& s) {
   std::string t;
   const auto& p = s.pipeline;
   const auto& e = s.estimator;
-  t += fmt::format("events          {} over {:.3f} s ({}, {}x{})\n", p.events, p.spanSeconds(), s.format,
-                   s.width, s.height);
+  t += fmt::format("events          {} over {:.3f} s ({}, {}x{}){}\n", p.events, p.spanSeconds(), s.format,
+                   s.width, s.height,
+                   s.events_skipped_at_start > 0
+                       ? fmt::format("; {} before them skipped (--skip-ms)", s.events_skipped_at_start)
+                       : "");
   t += fmt::format("frontend        {} features, {} measurements, {:.1f} active on average\n",
                    s.frontend.features_created, s.frontend.measurements, s.frontend.meanActiveFeatures());
   t += fmt::format(
@@ -376,7 +384,9 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("first_event_s", nsToSeconds(p.first_t_ns))
       .add("last_event_s", nsToSeconds(p.last_t_ns))
       .add("groundtruth_poses", static_cast<uint64_t>(s.groundtruth_poses.value_or(0)))
-      .add("repeat", options.repeat);
+      .add("repeat", options.repeat)
+      .add("skip_ms", options.skip_ms)
+      .add("events_skipped_at_start", s.events_skipped_at_start);
 
   JsonObject frontend;
   frontend.add("events", f.events)

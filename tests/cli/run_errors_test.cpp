@@ -119,5 +119,43 @@ TEST(RunCommand, ARealSliceRunsAndWritesEveryRunFolderFile) {
   EXPECT_GT(poses, 10);
 }
 
+TEST(RunCommand, SkipMsStartsTheRunLaterAndSaysWhatItLeftOut) {
+  // --skip-ms 40 on the 0.1 s ECD slice (first event 2.097134001 s): the events, the pipeline's span
+  // and the ground truth begin 40 ms later; stats.json says how many events were left out.
+  const TempDir dir;
+  const auto r = runAsynevo("run --dataset " + dataPath("ecd/shapes_rotation") + " --skip-ms 40 --out " +
+                            dir.file("out"));
+  ASSERT_NE(r.output.find("before them skipped (--skip-ms)"), std::string::npos) << r.output;
+  std::ifstream stats_file(dir.file("out/stats.json"));
+  std::stringstream stats;
+  stats << stats_file.rdbuf();
+  EXPECT_NE(stats.str().find("\"skip_ms\": 40"), std::string::npos) << stats.str();
+  const auto skipped_at = stats.str().find("\"events_skipped_at_start\": ");
+  ASSERT_NE(skipped_at, std::string::npos);
+  const long skipped = std::stol(stats.str().substr(skipped_at + 27));
+  EXPECT_GT(skipped, 1000);
+  EXPECT_LT(skipped, 20000);
+  EXPECT_NE(r.output.find("events          " + std::to_string(20000 - skipped) + " "), std::string::npos)
+      << r.output;
+  std::ifstream gt(dir.file("out/stamped_groundtruth.txt"));
+  std::string line;
+  int poses = 0;
+  while (std::getline(gt, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    EXPECT_GE(std::stod(line.substr(0, line.find(' '))), 2.137134001);
+    ++poses;
+  }
+  EXPECT_GT(poses, 5);
+
+  const auto beyond = runAsynevo("run --dataset " + dataPath("ecd/shapes_rotation") + " --skip-ms 500 --out " +
+                                 dir.file("out2"));
+  EXPECT_EQ(beyond.exit_code, 1) << beyond.output;
+  EXPECT_NE(beyond.output.find("no event is left after skipping the first 0.500 s"), std::string::npos)
+      << beyond.output;
+  const auto negative = runAsynevo("run --dataset " + dataPath("ecd/shapes_rotation") + " --skip-ms -5 --out " +
+                                   dir.file("out3"));
+  EXPECT_NE(negative.exit_code, 0) << negative.output;
+}
+
 }  // namespace
 }  // namespace asynevo

@@ -220,6 +220,12 @@ def smoke(asynevo, work):
     r = subprocess.run(base + ["-n", "--config", "asynevo=" + asynevo, "replay_skip_ms=50"], capture_output=True, text=True)
     check(r.returncode != 0 and "replay_skip_ms needs replay_of" in (r.stdout + r.stderr),
           "replay_skip_ms without replay_of stops the workflow")
+    r = subprocess.run(base + ["-n", "--config", "asynevo=" + asynevo, "skip_ms=50", "replay_of=other"],
+                       capture_output=True, text=True)  # fmt: skip
+    check(r.returncode != 0 and "skip_ms is for full runs" in (r.stdout + r.stderr),
+          "skip_ms with replay_of stops the workflow (a replay takes replay_skip_ms)")
+    r = subprocess.run(base + ["-n", "--config", "asynevo=" + asynevo, "skip_ms=-5"], capture_output=True, text=True)
+    check(r.returncode != 0 and "skip_ms -5" in (r.stdout + r.stderr), "a negative skip_ms stops the workflow")
     # one 2 s sequence (the validation half of the smoke matrix) through the whole workflow
     path = os.path.join(work, "smoke.yaml")
     with open(path, "w") as f:
@@ -235,6 +241,15 @@ def smoke(asynevo, work):
     report = os.path.join(out, "report", "baseline", "report.md")
     check(os.path.exists(report) and "| smoke-val |" in open(report).read(), "the report lists the sequence")
     check(not os.path.exists(os.path.join(out, "sequences", "smoke-tune")), "half=validation simulates only that half")
+    # the same sequence started 300 ms into its events (skip_ms): asynevo run is given --skip-ms
+    r = subprocess.run(base + ["--config", "asynevo=" + asynevo, "matrix=" + path, "out=" + out, "half=validation",
+                               "name=skip300", "skip_ms=300"], capture_output=True, text=True)  # fmt: skip
+    check(r.returncode == 0, "the smoke workflow runs with skip_ms" + ("" if r.returncode == 0 else " (%s)" % r.stderr.strip()[-500:]))
+    skip_score = matrix_report.read_json(os.path.join(out, "runs", "skip300", "smoke-val", "score.json")) or {}
+    check("--skip-ms" in skip_score.get("command", []) and "300" in skip_score.get("command", []),
+          "the run's command has --skip-ms 300 (%s)" % skip_score.get("command"))
+    skip_stats = matrix_report.read_json(os.path.join(out, "runs", "skip300", "smoke-val", "run", "stats.json")) or {}
+    check(skip_stats.get("input", {}).get("events_skipped_at_start", 0) > 0, "the run left out the first 300 ms of events")
     # a second invocation has nothing to do (file-based rules)
     again = subprocess.run(base + ["-n", "--config", "asynevo=" + asynevo, "matrix=" + path, "out=" + out,
                                    "half=validation"], capture_output=True, text=True)  # fmt: skip

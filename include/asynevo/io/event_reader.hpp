@@ -73,6 +73,7 @@ struct ReaderStats {
   uint64_t rectified_outside = 0;  ///< events whose rectified pixel is outside the sensor (dropped; DSEC with
                                    ///< a rectification map)
   std::vector<ContainerStream> streams;  ///< the streams of a container file (AEDAT 4.0); empty otherwise
+  uint64_t skipped_at_start = 0;  ///< events read and dropped before the stream's cut (io/skip_reader.hpp)
 };
 
 class EventReader {

@@ -59,6 +59,9 @@ struct RunOptions {
   /// short recording, for soak tests. Ground truth is then not written (the camera jumps back at
   /// every seam).
   int repeat = 1;
+  /// --skip-ms: the events less than this long after the stream's first event are dropped, as if the
+  /// recording had begun later (io/skip_reader.hpp; the evaluation matrix's start offsets).
+  double skip_ms = 0;
 };
 
 struct RunSummary {
@@ -72,6 +75,7 @@ struct RunSummary {
   std::string size_origin;  ///< where width and height came from
   std::string rectify_map;  ///< the rectification map applied to the events ("" = none)
   uint64_t rectified_outside = 0;  ///< events the rectification mapped outside the sensor (dropped)
+  uint64_t events_skipped_at_start = 0;  ///< events dropped by --skip-ms
   Config config;  ///< effective configuration
   std::string backend_name;
   PipelineStats pipeline;
