@@ -52,7 +52,19 @@ void BloscChunkCheck::checkChunk(uint64_t chunk) {
   if (H5Dget_chunk_info_by_coord(dataset_, offset, &filter_mask, &address, &stored) < 0)
     throw InputError::atRecord(path_, first_value,
                                fmt::format("dataset '{}': cannot locate its chunk", name_));
-  if (filter_mask != 0 || stored == 0) return;  // stored without the filter, or not allocated (fill values)
+  if (filter_mask != 0) return;  // stored without the filter
+  // H5Dread and H5Dread_chunk find a chunk by libhdf5's chunk lookup (H5Dget_chunk_storage_size); in a
+  // corrupt index that can differ from the size the index lists (H5Dget_chunk_info_by_coord). A chunk the
+  // index lists as absent (fill values) but the lookup finds would be decompressed unchecked, and a read
+  // by the listed size would run past its buffer: the two must agree.
+  hsize_t read_size = 0;
+  if (H5Dget_chunk_storage_size(dataset_, offset, &read_size) < 0 || read_size != stored) {
+    throw InputError::atRecord(path_, first_value,
+                               fmt::format("dataset '{}': its chunk index lists {} bytes for the chunk, "
+                                           "the chunk lookup {} (corrupt chunk index?)",
+                                           name_, stored, read_size));
+  }
+  if (stored == 0) return;  // not allocated: fill values
   const uint64_t values_bytes = chunk_values_ * value_bytes_;
   // Blosc stores at most its header more than the values (BLOSC_MAX_OVERHEAD, 16 bytes).
   if (stored < kBloscHeaderBytes || stored > values_bytes + kBloscHeaderBytes) {
@@ -60,16 +72,6 @@ void BloscChunkCheck::checkChunk(uint64_t chunk) {
                                fmt::format("dataset '{}': a Blosc chunk of {} bytes for {} bytes of values "
                                            "(corrupt chunk?)",
                                            name_, stored, values_bytes));
-  }
-  // H5Dread_chunk writes as many bytes as the chunk lookup says (H5Dget_chunk_storage_size); in a corrupt
-  // index that can differ from the size the index lists (H5Dget_chunk_info_by_coord), and the read would
-  // run past a buffer of the listed size.
-  hsize_t read_size = 0;
-  if (H5Dget_chunk_storage_size(dataset_, offset, &read_size) < 0 || read_size != stored) {
-    throw InputError::atRecord(path_, first_value,
-                               fmt::format("dataset '{}': its chunk index lists {} bytes for the chunk, "
-                                           "the chunk lookup {} (corrupt chunk index?)",
-                                           name_, stored, read_size));
   }
   std::vector<uint8_t> bytes(stored);
   uint32_t filters = 0;

@@ -323,6 +323,20 @@ TEST(DsecReader, AChunkIndexThatMisstatesAChunksSizeIsRejected) {
   }
 }
 
+// The dsec_events fuzz finding of 2026-11-28 (fuzz/corpus/dsec_events/regress_chunk_listed_absent.h5):
+// the chunk index lists the first chunk of 'events/x' as not stored (0 bytes: fill values), so the Blosc
+// check passed it, while libhdf5's chunk lookup finds 229 bytes there; H5Dread decompressed them into
+// 2000 bytes and copied past them (heap-buffer-overflow in H5VM_memcpyvv). Now an InputError.
+TEST(DsecReader, AChunkTheIndexListsAsAbsentButTheLookupFindsIsRejected) {
+  if (H5Zfilter_avail(32001) <= 0) {
+    GTEST_SKIP() << "the HDF5 Blosc filter plugin is not installed (Debian: hdf5-filter-plugin-blosc-serial)";
+  }
+  const std::string path = std::string(ASYNEVO_FUZZ_CORPUS_DIR) + "/dsec_events/regress_chunk_listed_absent.h5";
+  EXPECT_EQ(testing::errorOf(path, vga(256)),
+            path + ": record 0: dataset 'events/x': its chunk index lists 0 bytes for the chunk, the chunk lookup "
+                   "229 (corrupt chunk index?)");
+}
+
 TEST(DsecReader, ReadsBloscZstdCompressedFiles) {
   constexpr H5Z_filter_t kBlosc = 32001;
   if (H5Zfilter_avail(kBlosc) <= 0) {
