@@ -202,8 +202,8 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
                             options.rectify_map},
                            &summary.warnings);
   if (options.repeat < 1) throw ConfigError(fmt::format("--repeat must be at least 1, not {}", options.repeat));
-  if (!(options.skip_ms >= 0))
-    throw ConfigError(fmt::format("--skip-ms must be a duration >= 0 ms, not {}", options.skip_ms));
+  if (!(options.skip_ms >= 0 && options.skip_ms <= 1e12))  // 1e12 ms: 31 years, far inside int64 ns
+    throw ConfigError(fmt::format("--skip-ms must be a duration from 0 to 1e12 ms, not {}", options.skip_ms));
   std::unique_ptr<EventReader> reader = skipStartOfStream(
       options.repeat == 1
           ? openEventReader(files.events, reader_options)

@@ -155,6 +155,10 @@ TEST(RunCommand, SkipMsStartsTheRunLaterAndSaysWhatItLeftOut) {
   const auto negative = runAsynevo("run --dataset " + dataPath("ecd/shapes_rotation") + " --skip-ms -5 --out " +
                                    dir.file("out3"));
   EXPECT_NE(negative.exit_code, 0) << negative.output;
+  const auto huge = runAsynevo("run --dataset " + dataPath("ecd/shapes_rotation") + " --skip-ms 1e300 --out " +
+                               dir.file("out4"));
+  EXPECT_EQ(huge.exit_code, 1) << huge.output;
+  EXPECT_NE(huge.output.find("--skip-ms must be a duration from 0 to 1e12 ms"), std::string::npos) << huge.output;
 }
 
 }  // namespace
