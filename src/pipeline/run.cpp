@@ -253,8 +253,9 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
   // Outputs that do not depend on the run come first: a failed run still says how it was configured.
   RunFolderWriter writer(options.out);
   runEvents(*reader, camera, config, options, writer, summary, progress, observer);
-  summary.rectified_outside = reader->stats().rectified_outside;
-  summary.events_skipped_at_start = reader->stats().skipped_at_start;
+  const ReaderStats& reader_stats = reader->stats();
+  summary.rectified_outside = reader_stats.rectified_outside;
+  summary.events_skipped_at_start = reader_stats.skipped_at_start;
 
   // The ground truth: --gt-topic, else a file beside the events, else a bag's only pose topic
   // (loadDatasetGroundTruth). Problems are warnings: the estimate is written either way.

@@ -16,6 +16,11 @@
 namespace asynevo {
 namespace {
 
+// The Blosc tests need the HDF5 filter plugin (filter 32001), which CI installs; skip where it is missing.
+#define SKIP_WITHOUT_BLOSC_PLUGIN()                                                                      \
+  if (H5Zfilter_avail(32001) <= 0)                                                                       \
+  GTEST_SKIP() << "the HDF5 Blosc filter plugin is not installed (Debian: hdf5-filter-plugin-blosc-serial)"
+
 using testing::DsecEvents;
 using testing::DsecLayout;
 using testing::TempDir;
@@ -297,9 +302,7 @@ TEST(DsecReader, UnavailableFilterNamesThePackageOrPluginPath) {
 // declares 0x76650030 compressed bytes for the 48 it stores; libblosc bounded its reads by that and read far
 // past the chunk on the second packet. Each chunk's header is now compared with the chunk as stored first.
 TEST(DsecReader, ABloscChunkWhoseHeaderMisstatesItsSizeIsRejected) {
-  if (H5Zfilter_avail(32001) <= 0) {
-    GTEST_SKIP() << "the HDF5 Blosc filter plugin is not installed (Debian: hdf5-filter-plugin-blosc-serial)";
-  }
+  SKIP_WITHOUT_BLOSC_PLUGIN();
   const std::string path = std::string(ASYNEVO_FUZZ_CORPUS_DIR) + "/dsec_events/regress_blosc_cbytes.h5";
   EXPECT_EQ(testing::errorOf(path, vga(1000)),
             path + ": record 1000: dataset 'events/p': the chunk's Blosc header declares 1000 bytes compressed into "
@@ -311,9 +314,7 @@ TEST(DsecReader, ABloscChunkWhoseHeaderMisstatesItsSizeIsRejected) {
 // reads by, says another; the check's read ran past its buffer (heap-buffer-overflow under ASan). Now
 // an InputError naming the dataset and the record.
 TEST(DsecReader, AChunkIndexThatMisstatesAChunksSizeIsRejected) {
-  if (H5Zfilter_avail(32001) <= 0) {
-    GTEST_SKIP() << "the HDF5 Blosc filter plugin is not installed (Debian: hdf5-filter-plugin-blosc-serial)";
-  }
+  SKIP_WITHOUT_BLOSC_PLUGIN();
   for (int i = 1; i <= 3; ++i) {
     const std::string path =
         std::string(ASYNEVO_FUZZ_CORPUS_DIR) + "/dsec_events/regress_chunk_index_size_" + std::to_string(i) + ".h5";
@@ -328,9 +329,7 @@ TEST(DsecReader, AChunkIndexThatMisstatesAChunksSizeIsRejected) {
 // check passed it, while libhdf5's chunk lookup finds 229 bytes there; H5Dread decompressed them into
 // 2000 bytes and copied past them (heap-buffer-overflow in H5VM_memcpyvv). Now an InputError.
 TEST(DsecReader, AChunkTheIndexListsAsAbsentButTheLookupFindsIsRejected) {
-  if (H5Zfilter_avail(32001) <= 0) {
-    GTEST_SKIP() << "the HDF5 Blosc filter plugin is not installed (Debian: hdf5-filter-plugin-blosc-serial)";
-  }
+  SKIP_WITHOUT_BLOSC_PLUGIN();
   const std::string path = std::string(ASYNEVO_FUZZ_CORPUS_DIR) + "/dsec_events/regress_chunk_listed_absent.h5";
   EXPECT_EQ(testing::errorOf(path, vga(256)),
             path + ": record 0: dataset 'events/x': its chunk index lists 0 bytes for the chunk, the chunk lookup "
@@ -339,9 +338,7 @@ TEST(DsecReader, AChunkTheIndexListsAsAbsentButTheLookupFindsIsRejected) {
 
 TEST(DsecReader, ReadsBloscZstdCompressedFiles) {
   constexpr H5Z_filter_t kBlosc = 32001;
-  if (H5Zfilter_avail(kBlosc) <= 0) {
-    GTEST_SKIP() << "the HDF5 Blosc filter plugin is not installed (Debian: hdf5-filter-plugin-blosc-serial)";
-  }
+  SKIP_WITHOUT_BLOSC_PLUGIN();
   TempDir dir;
   const DsecEvents events = syntheticDsecEvents(20000);
   DsecLayout layout;
