@@ -27,6 +27,9 @@ from matrix_run import read_json  # noqa: E402
 from plot_run import save  # noqa: E402  (selects matplotlib's Agg backend, hints at missing packages)
 import matplotlib.pyplot as plt  # noqa: E402
 
+# A run whose median direction of travel is further than this from the truth's is counted apart: its
+# ATE can look fine while its camera moves backwards or sideways through its map (a failed run counts).
+MISDIRECTED_DEG = 30.0
 BEGIN_MARKER = "<!-- matrix:begin -->"
 END_MARKER = "<!-- matrix:end -->"
 FACTORS = [("sensor", "sensor"), ("noise", "noise level"), ("scene_kind", "scene"), ("motion_kind", "motion")]
@@ -35,6 +38,7 @@ METRICS = {
     "ate_pct": ("ATE", "% of path", False),
     "rte10_pct": ("RTE@10 %", "% ", False),
     "vel_pct": ("velocity", "% of speed", False),
+    "direction_deg": ("direction", "deg", False),
     "init_s": ("init", "s", False),
     "coverage_pct": ("coverage", "%", True),
     "coverage_onset_pct": ("coverage after onset", "%", True),
@@ -84,7 +88,8 @@ def median(values):
 def summarize(rows):
     """{metric: (median, worst)} and counts over rows."""
     out = dict(n=len(rows), failed=sum(1 for r in rows if r.get("status") != "ok"),
-               above2=sum(1 for r in rows if value(r, "ate_pct") > 2.0))
+               above2=sum(1 for r in rows if value(r, "ate_pct") > 2.0),
+               misdirected=sum(1 for r in rows if value(r, "direction_deg") > MISDIRECTED_DEG))
     for key, (_, _, higher_better) in METRICS.items():
         vals = [value(r, key) for r in rows]
         worst = (min(vals) if higher_better else max(vals)) if vals else None
@@ -102,14 +107,16 @@ def cell(x, digits=2):
 
 def summary_table(groups):
     """Markdown table: one row per (label, summary)."""
-    head = "| | runs | failed | ATE > 2 % or failed | " + " | ".join("%s median / worst" % METRICS[k][0] for k in METRICS) + " |"
-    lines = [head, "|---|---|---|---|" + "---|" * len(METRICS)]
+    head = ("| | runs | failed | ATE > 2 %% or failed | direction > %g° or failed | " % MISDIRECTED_DEG
+            + " | ".join("%s median / worst" % METRICS[k][0] for k in METRICS) + " |")
+    lines = [head, "|---|---|---|---|---|" + "---|" * len(METRICS)]
     for label, s in groups:
         cells = []
         for k in METRICS:
-            d = 1 if k in ("rte10_pct", "vel_pct", "coverage_pct", "coverage_onset_pct") else 2
+            d = 1 if k in ("rte10_pct", "vel_pct", "direction_deg", "coverage_pct", "coverage_onset_pct") else 2
             cells.append("%s / %s" % (cell(s[k]["median"], d), cell(s[k]["worst"], d)))
-        lines.append("| %s | %d | %d | %d | %s |" % (label, s["n"], s["failed"], s["above2"], " | ".join(cells)))
+        lines.append("| %s | %d | %d | %d | %d | %s |" % (label, s["n"], s["failed"], s["above2"], s["misdirected"],
+                                                          " | ".join(cells)))
     return "\n".join(lines)
 
 
@@ -121,19 +128,20 @@ def features(r):
 
 
 def sequence_table(rows):
-    lines = ["| sequence | half | sensor | noise | scene | motion | status | ATE % | RTE@10 % | vel % | "
+    lines = ["| sequence | half | sensor | noise | scene | motion | status | ATE % | RTE@10 % | vel % | direction ° (reversed %) | "
              "init s (attempts) | init after onset s | coverage % (after onset) | segments | features mean / median | note |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]  # fmt: skip
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]  # fmt: skip
     for r in rows:
         ok = r.get("status") == "ok"
         init = "%s (%s)" % (cell(r.get("init_s")), r.get("init_attempts", "–")) if r.get("init_s") is not None else \
             "never (%s)" % r.get("init_attempts", "–")  # fmt: skip
         ends = r.get("segment_ends") or []
         segments = "%s (%s)" % (r["segments"], ", ".join(ends)) if ends else cell(r.get("segments"), 0)
-        lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+        direction = "%s (%s)" % (cell(r.get("direction_deg"), 1), cell(r.get("reversed_pct"), 0)) if ok else "–"
+        lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
             r["name"], r["half"], r["sensor"], r["noise"], r["scene"], r["motion"], r.get("status"),
             cell(r.get("ate_pct")) if ok else "–", cell(r.get("rte10_pct"), 1) if ok else "–",
-            cell(r.get("vel_pct"), 1) if ok else "–", init, cell(r.get("init_after_onset_s")),
+            cell(r.get("vel_pct"), 1) if ok else "–", direction, init, cell(r.get("init_after_onset_s")),
             "%s (%s)" % (cell(r.get("coverage_pct"), 1), cell(r.get("coverage_onset_pct"), 1)), segments, features(r),
             (r.get("message") or "").replace("|", "/")[:160]))  # fmt: skip
     return "\n".join(lines)
@@ -190,7 +198,8 @@ def report(matrix, rows, args, figure_name):
           "",
           "ATE: RMSE after Sim(3) alignment in % of the evaluated ground-truth path; RTE@10 %: mean relative "
           "translation error over sub-trajectories of 10 % of the path; velocity: RMSE of the body velocity in % "
-          "of the mean speed; init: event time from the start of the sequence to the first successful "
+          "of the mean speed; direction: median angle between the estimated and the true direction of travel "
+          "(body frame, where the camera moves; reversed: share of knots above 90°), which the ATE does not see; init: event time from the start of the sequence to the first successful "
           "initialization; coverage: share of the sequence with an estimate (after onset: of the part from the "
           "motion onset on, since a monocular start needs motion). A failed run is the worst value "
           "of every figure ('failed').", "",

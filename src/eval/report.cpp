@@ -124,12 +124,13 @@ std::string evalJson(const EvalResult& r, const ReportInputs& inputs) {
         "  \"velocity\": {{\"file\": {}, \"definition\": {},\n    \"scale_applied\": {}, \"est_twists\": {}, "
         "\"samples\": {},\n    \"linear_mps\": {},\n    \"angular_dps\": {},\n    \"mean_gt_speed_mps\": {}, "
         "\"mean_gt_rate_dps\": {}, \"linear_rmse_perc_of_mean_speed\": {}, "
-        "\"angular_rmse_perc_of_mean_rate\": {}}},\n",
+        "\"angular_rmse_perc_of_mean_rate\": {},\n    \"direction_deg\": {},\n    \"reversed_fraction\": {}}},\n",
         quoted(r.velocities_path),
         quoted("body-frame twist; linear part times the alignment scale vs R_gt^T dp_gt/dt (central "
                "differences of the ground-truth poses, interpolated at the twist times; docs/evaluation.md)"),
         num(v.scale), v.est_twists, v.samples, statsJson(v.linear_mps), statsJson(v.angular_dps),
-        num(v.mean_gt_speed_mps), num(v.mean_gt_rate_dps), num(v.linear_rmse_perc), num(v.angular_rmse_perc));
+        num(v.mean_gt_speed_mps), num(v.mean_gt_rate_dps), num(v.linear_rmse_perc), num(v.angular_rmse_perc),
+        statsJson(v.direction_deg), num(v.reversed_fraction));
   }
   if (inputs.timing) {
     const TimingStats& t = *inputs.timing;
@@ -233,6 +234,12 @@ std::string summaryTable(const EvalResult& r, const TimingStats* timing) {
         "  {:<18} linear {:.2f} % of the mean ground-truth speed ({:.4f} m/s), angular {:.2f} % of "
         "the mean rate ({:.3f} deg/s)\n",
         "rmse / mean", v.linear_rmse_perc, v.mean_gt_speed_mps, v.angular_rmse_perc, v.mean_gt_rate_dps);
+    if (v.direction_deg.num_samples > 0) {
+      s += fmt::format(
+          "  {:<18} median {:.1f} deg from the ground truth's; in reverse (> 90 deg) {:.1f} % of {} twists{}\n",
+          "direction", v.direction_deg.median, 100.0 * v.reversed_fraction, v.direction_deg.num_samples,
+          v.reversed_fraction > 0.5 ? ": the estimate travels backwards" : "");
+    }
   }
   if (timing) {
     s += fmt::format("backend: {} updates", timing->updates);

@@ -70,6 +70,55 @@ TEST(VelocityErrors, ConstantBiasesAreTheErrors) {
   EXPECT_NEAR(v.linear_rmse_perc, 10.0 / std::sqrt(1.01), 1e-3);
 }
 
+TEST(VelocityErrors, TheDirectionOfTravelIsScaleFreeAndCatchesAnEstimateMovingBackwards) {
+  const StampedTrajectory gt = test::helix(4000, 1'000'000);
+  // A map 4x the world (or 1/4): the direction does not depend on the scale.
+  const VelocityErrors scaled = computeVelocityErrors(gt, helixTwists(50, 3950, 4.0), 1.0);
+  ASSERT_EQ(scaled.direction_deg.num_samples, 79u);  // constant speed: every sample is scored
+  EXPECT_LT(scaled.direction_deg.max, 1e-3);
+  EXPECT_EQ(scaled.reversed_fraction, 0.0);
+  // The second half travels backwards (a depth-inverted map moves the camera the other way).
+  std::vector<StampedTwist> twists = helixTwists(50, 3950);
+  for (StampedTwist& tw : twists) {
+    if (tw.t_ns >= 2'000'000'000) tw.v_c = -tw.v_c;
+  }
+  const VelocityErrors v = computeVelocityErrors(gt, twists, 1.0);
+  EXPECT_NEAR(v.reversed_fraction, 40.0 / 79.0, 1e-12);  // 2.00 .. 3.95 s: 40 of 79 twists
+  EXPECT_NEAR(v.direction_deg.max, 180.0, 1e-3);
+  EXPECT_LT(v.direction_deg.min, 1e-3);
+}
+
+TEST(VelocityErrors, TheDirectionIsNotScoredNearAStop) {
+  // Back and forth along x, p = sin(t): the speed |cos t| passes through 0 at t = pi/2, 3pi/2.
+  StampedTrajectory gt;
+  for (int64_t k = 0; k <= 6000; ++k) {
+    StampedPose pose;
+    pose.t_ns = k * 1'000'000;
+    pose.p_w_c = Eigen::Vector3d(std::sin(k * 1e-3), 0.0, 0.0);
+    gt.push_back(pose);
+  }
+  std::vector<StampedTwist> twists;
+  std::size_t slow = 0;
+  for (int64_t t_ms = 50; t_ms <= 5950; t_ms += 50) {
+    StampedTwist tw;
+    tw.t_ns = t_ms * 1'000'000;
+    const double v = std::cos(t_ms * 1e-3);
+    // Where the camera nearly stops, the estimate points the wrong way: not scored.
+    const bool near_stop = std::abs(v) < 0.1;
+    slow += near_stop;
+    tw.v_c = Eigen::Vector3d(near_stop ? -v : v, 0.0, 0.0);
+    twists.push_back(tw);
+  }
+  ASSERT_GT(slow, 0u);
+  const VelocityErrors r = computeVelocityErrors(gt, twists, 1.0);
+  EXPECT_EQ(r.samples, twists.size());
+  // The mean of |cos| over [0, 6] is about 0.64: samples below a quarter of it are left out.
+  EXPECT_LT(r.direction_deg.num_samples, twists.size() - slow + 1);
+  EXPECT_GT(r.direction_deg.num_samples, twists.size() / 2);
+  EXPECT_EQ(r.reversed_fraction, 0.0);
+  EXPECT_LT(r.direction_deg.max, 1e-2);
+}
+
 TEST(VelocityErrors, TwistsOutsideTheGroundTruthOrInAHoleAreLeftOut) {
   // 1 kHz for 4 s without the poses strictly between 1.5 s and 2.0 s (a 0.5 s hole).
   StampedTrajectory gt;

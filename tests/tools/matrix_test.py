@@ -108,6 +108,14 @@ def units():
         dict(ended_by="event_gap"), dict(ended_by="residual"), dict(ended_by="end_of_stream")]))  # fmt: skip
     stats["frontend"] = dict(mean_active_features=41.6, median_active_features=48)
     scored = matrix_run.score(None, stats, np.zeros((0, 8)), np.zeros((0, 8)))
+    evaluated = matrix_run.score(
+        dict(matched_gt_path_length_m=4.0, alignment=dict(scale=0.5),
+             ate=dict(trans_m=dict(rmse=0.1), rot_deg=dict(rmse=178.5)),
+             velocity=dict(linear_rmse_perc_of_mean_speed=170.0, direction_deg=dict(median=139.7),
+                           reversed_fraction=0.902)), stats, np.zeros((0, 8)), np.zeros((0, 8)))  # fmt: skip
+    check(abs(evaluated["ate_pct"] - 2.5) < 1e-9 and evaluated["direction_deg"] == 139.7
+          and abs(evaluated["reversed_pct"] - 90.2) < 1e-9 and evaluated["ate_rot_deg"] == 178.5,
+          "the score takes the direction of travel, its reversed share and the rotation error from eval.json")  # fmt: skip
     check(scored["mean_active_features"] == 41.6 and scored["median_active_features"] == 48,
           "the score keeps the frontend's mean and median active features")  # fmt: skip
     check(scored["segments"] == 3 and scored["segment_ends"] == ["event_gap", "residual"],
@@ -149,7 +157,7 @@ def units():
     for name, score in (
         ("c1-tune", dict(status="ok", ate_pct=1.0, rte10_pct=5.0, vel_pct=20.0, init_s=0.5, coverage=0.9, init_attempts=3,
                          segments=2, segment_ends=["event_gap"], mean_active_features=41.6,
-                         median_active_features=48)),
+                         median_active_features=48, direction_deg=140.0, reversed_pct=90.0)),
         ("c1-val", dict(status="failed", message="initialization never succeeded after 40 attempt(s)", coverage=0.0,
                         init_attempts=40)),
     ):  # fmt: skip
@@ -161,6 +169,7 @@ def units():
     check(summary["failed"] == 1 and summary["ate_pct"]["worst"] == float("inf"), "a failed run is the worst ATE")
     check(summary["coverage_pct"]["worst"] == 0.0, "a failed run's coverage is 0")
     check(summary["above2"] == 1, "a failed run counts among the runs above 2 %")
+    check(summary["misdirected"] == 2, "a run travelling backwards and a failed run are both misdirected")
     md = os.path.join(tmp, "report", "report.md")
     docs = os.path.join(tmp, "results.md")
     with open(docs, "w") as f:
@@ -173,6 +182,7 @@ def units():
           "the report lists the failed run with its message")  # fmt: skip
     check("| 2 (event_gap) |" in text, "the report lists a run's segments and why each ended")
     check("| 42 / 48 |" in text, "the report gives the active features' mean and median")
+    check("| 140.0 (90) |" in text, "the report gives a run's direction of travel and its reversed share")
     check(os.path.exists(os.path.join(tmp, "report", "distributions.png")), "the report draws the distributions")
     doc = open(docs).read()
     check("old" not in doc and "before" in doc and "after" in doc and "| c1-tune |" in doc,

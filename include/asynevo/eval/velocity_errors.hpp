@@ -6,7 +6,12 @@
 //     pose i): v_g,i = R_iᵀ (p_i+1 − p_i−1) / (t_i+1 − t_i−1), ω_g,i = Log(R_i−1ᵀ R_i+1) / (t_i+1 − t_i−1),
 //     linearly interpolated at the estimate's times between two such samples at most `max_gt_gap_ns`
 //     apart (or taken as is at an equal time);
-//   error per twist: ‖s v_e − v_g‖ (linear, s = the alignment scale) and ‖ω_e − ω_g‖ (angular, deg/s).
+//   error per twist: ‖s v_e − v_g‖ (linear, s = the alignment scale) and ‖ω_e − ω_g‖ (angular, deg/s);
+//   direction of travel per twist: the angle between v_e and v_g (deg), where the ground truth moves at
+//     least kDirectionMinSpeedFraction of its mean speed; an angle above 90° is travel in reverse.
+//     Scale- and alignment-free, it catches an estimate whose camera moves backwards through a
+//     depth-inverted map (the rotation–translation ambiguity of a monocular start or of a collapsed
+//     scale), which a Sim(3) fit of positions alone can score at a few % ATE.
 //
 // The body-frame twist does not depend on the alignment's rotation and translation; its linear part
 // carries the estimate's map scale, hence s.
@@ -25,6 +30,10 @@ namespace asynevo::eval {
 /// truth); 0.1 s spans 1 kHz simulation, ~200 Hz mocap and 10–20 Hz odometry ground truth.
 constexpr int64_t kDefaultVelocityMaxGtGapNs = 100'000'000;
 
+/// The direction of travel is scored where the ground truth moves at least this share of its mean
+/// speed (near a stop or a reversal its direction is not defined).
+constexpr double kDirectionMinSpeedFraction = 0.25;
+
 struct VelocityErrors {
   double scale = 1.0;              ///< applied to the estimate's linear velocity
   std::size_t est_twists = 0;      ///< twists in the input
@@ -37,6 +46,10 @@ struct VelocityErrors {
   double linear_rmse_perc = 0.0;
   /// angular_dps.rmse / mean_gt_rate_dps · 100; NaN when the mean rate is 0.
   double angular_rmse_perc = 0.0;
+  /// Angle between v_e and v_g per sample where ‖v_g‖ ≥ kDirectionMinSpeedFraction · mean speed [deg].
+  Stats direction_deg;
+  /// Share of those samples travelling in reverse (angle > 90°); NaN when there is none.
+  double reversed_fraction = 0.0;
   std::vector<double> t_s;  ///< sample times [s]
 };
 
