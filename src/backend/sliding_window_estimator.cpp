@@ -149,9 +149,28 @@ InitResult SlidingWindowEstimator::findInitialMotion(int64_t earliest_ns, int64_
     // "both": the multi-view start only once the counts are relaxed, i.e. the two-view start has
     // failed for init_relax_after_ms. Earlier it would pre-empt two-view starts that come within a
     // fraction of a second, and weak early starts cost accuracy for the rest of the run.
-    if (two_view.ok || method == "two-view" || !relaxed_counts) return two_view;
+    if (method == "two-view" || !relaxed_counts) return two_view;
+    // A two-view start that passes only thanks to the relaxed counts competes with the multi-view start
+    // (init_weak_two_view compare or confirm): the one with more inliers wins.
+    const std::string& weak_rule = options_.config.init_weak_two_view;
+    const bool weak = weak_rule != "keep" && two_view.inliers < options_.config.init_min_inliers;
+    if (two_view.ok && !weak) return two_view;
   }
   InitResult multi_view = initializeMultiView(tracks_, earliest_ns, t_b_ns, options_.focal_px, config);
+  if (two_view.ok) {
+    if (!multi_view.ok && options_.config.init_weak_two_view == "confirm") {
+      InitResult wait = two_view;
+      wait.ok = false;
+      wait.rejection = InitRejection::Agreement;
+      wait.failure = fmt::format("weak two-view start ({} of {} features fit, need {} unrelaxed) not confirmed: {}",
+                                 two_view.inliers, two_view.features, options_.config.init_min_inliers,
+                                 multi_view.failure);
+      return wait;
+    }
+    if (!multi_view.ok || multi_view.inliers <= two_view.inliers) return two_view;
+    multi_view.replaced_two_view = true;
+    return multi_view;
+  }
   if (multi_view.ok || method == "multi-view") return multi_view;
   // Both failed: report the one that got further, and both reasons.
   InitResult& further = multi_view.rejection > two_view.rejection ? multi_view : two_view;
@@ -305,6 +324,7 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   anchors_.push_back({FactorEntry{std::make_shared<ScaleAnchorFactor>(baseline, 1e-3 * baseline), nullptr,
                                   {first.pose.data(), far.pose.data()}},
                       {first.t_ns, far.t_ns}});
+  if (motion.replaced_two_view) ++stats_.init_weak_two_view_replaced;
   if (!stats_.initialized) {
     stats_.initialized = true;
     stats_.initialized_at_ns = t_ns;

@@ -429,6 +429,7 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("init_rotation_refits", e.init_rotation_refits)
       .add("init_retriangulations", e.init_retriangulations)
       .add("init_two_view_landmark_starts", e.init_two_view_landmark_starts)
+      .add("init_weak_two_view_replaced", e.init_weak_two_view_replaced)
       .add("init_relaxed_again", e.init_relaxed_again)
       .add("init_restarts_relaxed", e.init_restarts_relaxed)
       .add("init_span_ms", e.init_views.span_ms)

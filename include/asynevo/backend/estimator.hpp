@@ -62,6 +62,8 @@ struct EstimatorStats {
   uint64_t init_retriangulations = 0;
   /// Two-view starts that triangulated landmarks from their two views alone (init_two_view_landmarks).
   uint64_t init_two_view_landmark_starts = 0;
+  /// Starts made from the multi-view fit instead of a weak two-view pose (init_weak_two_view).
+  uint64_t init_weak_two_view_replaced = 0;
   /// Times the counts were relaxed a second time (init_relax_again_after_ms; granted only where the
   /// once-relaxed attempts failed mostly for lack of features), over the first start and every restart.
   uint64_t init_relaxed_again = 0;

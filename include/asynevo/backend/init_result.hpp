@@ -29,6 +29,8 @@ struct InitResult {
   int features = 0;        ///< features that took part
   int inliers = 0;
   double parallax_px = 0;  ///< median inlier parallax (rotation removed), pixels
+  /// A multi-view start chosen over a weak two-view start of the same attempt (init_weak_two_view).
+  bool replaced_two_view = false;
 };
 
 }  // namespace asynevo::backend

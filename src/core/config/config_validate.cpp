@@ -123,6 +123,9 @@ void BackendConfig::validate() const {
   if (init_method != "two-view" && init_method != "multi-view" && init_method != "both")
     throw ConfigError(fmt::format("configuration value backend.init_method = '{}' is not one of two-view, multi-view, both",
                                   init_method));
+  if (init_weak_two_view != "keep" && init_weak_two_view != "compare" && init_weak_two_view != "confirm")
+    throw ConfigError(fmt::format(
+        "configuration value backend.init_weak_two_view = '{}' is not one of keep, compare, confirm", init_weak_two_view));
   requireRange("backend.loss_max_event_gap_ms", loss_max_event_gap_ms, 0.0, 1e9);
   if (loss_max_event_gap_ms > 0 && loss_max_event_gap_ms < knot_dt_ms)
     throw ConfigError(fmt::format("configuration value backend.loss_max_event_gap_ms = {} must be 0 (off) or at "

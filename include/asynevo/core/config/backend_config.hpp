@@ -119,6 +119,12 @@ struct BackendConfig {
   /// the trajectories seen at both of its times from those two views alone (the five-point pose) and
   /// let the first solve fit the knots to them.
   bool init_two_view_landmarks = true;
+  /// A two-view start that passes only with the relaxed counts (fewer inliers than the unrelaxed
+  /// init_min_inliers; a five-point pose from a dozen features can fit a depth-inverted map travelled in
+  /// reverse, docs/method/initialization.md, "Weak two-view starts"): "keep" builds on it; "compare"
+  /// tries the multi-view start of the same attempt too and takes the one with more inliers; "confirm"
+  /// does the same but waits when the multi-view start fails.
+  std::string init_weak_two_view = "keep";
 
   // --- tracking loss (docs/method/tracking_loss.md): the segment ends, the estimator starts again ---
   double loss_max_event_gap_ms = 250.0;  ///< a gap in the events longer than this ends the segment (0 = off)
@@ -201,6 +207,8 @@ struct BackendConfig {
       "initialization: a start needs the previous attempt's translation direction within this angle [deg] (0 = off)");
     v("init_two_view_landmarks", init_two_view_landmarks,
       "initialization: too few landmarks against the start's knots: triangulate from the start's two views alone");
+    v("init_weak_two_view", init_weak_two_view,
+      "initialization: a two-view start below the unrelaxed inlier count: keep, compare (with the multi-view start) or confirm (by it)");
     v("init_retriangulate", init_retriangulate,
       "initialization: after the start's solve, triangulate the remaining trajectories again and solve again");
     v("loss_max_event_gap_ms", loss_max_event_gap_ms,
