@@ -104,6 +104,21 @@ TEST(Config, OutOfRangeIsAConfigError) {
   EXPECT_THROW(applyConfigYaml("input:\n  packet_size: -5\n", "x.yaml", config), ConfigError);
 }
 
+TEST(Config, AnUnknownRuleForWeakTwoViewStartsIsRejectedWithItsKey) {
+  for (const char* rule : {"keep", "compare", "confirm"}) {
+    Config config;
+    applyConfigYaml(std::string("backend:\n  init_weak_two_view: ") + rule + "\n", "x.yaml", config);
+    EXPECT_EQ(config.backend.init_weak_two_view, rule);
+  }
+  Config config;
+  try {
+    applyConfigYaml("backend:\n  init_weak_two_view: always\n", "x.yaml", config);
+    FAIL() << "init_weak_two_view: always was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("backend.init_weak_two_view = 'always'"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Config, AFeatureBudgetLargerThanTheSensorHoldsIsRejectedWithItsKeys) {
   Config config;  // 240x180, border 16 px, features 15 px apart: 208 x 148 px hold 158 hexagonally
   config.validateForSensor();
