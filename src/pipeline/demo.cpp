@@ -88,6 +88,9 @@ std::string demoReportText(const DemoResult& r) {
       t += fmt::format("  velocity      RMSE {:.4f} m/s ({:.1f} % of the mean speed {:.3f} m/s), angular {:.2f} deg/s\n",
                        e.velocity->linear_mps.rmse, e.velocity->linear_rmse_perc, e.velocity->mean_gt_speed_mps,
                        e.velocity->angular_dps.rmse);
+    if (e.velocity && e.velocity->direction_deg.num_samples > 0)
+      t += fmt::format("  direction     median {:.1f} deg from the true direction of travel, {:.1f} % of the knots in reverse\n",
+                       e.velocity->direction_deg.median, 100.0 * e.velocity->reversed_fraction);
   } else {
     t += "accuracy        not evaluated: " + r.evaluation_error + "\n";
   }

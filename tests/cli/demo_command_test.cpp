@@ -25,6 +25,7 @@ TEST(DemoCommand, WritesIntoAsynevoDemoByDefaultAndReportsAccuracyAndSpeed) {
   EXPECT_NE(r.output.find("ATE           RMSE"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("RTE"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("velocity      RMSE"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("direction     median"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("real-time factor"), std::string::npos) << r.output;
   const std::filesystem::path demo = dir.path() / "asynevo_demo";
   EXPECT_NE(r.output.find(demo.string()), std::string::npos) << "it must say where it wrote\n" << r.output;
