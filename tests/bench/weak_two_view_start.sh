@@ -8,6 +8,8 @@
 #    in init_attempts), the start is built on the multi-view fit instead, and once past that start's
 #    window (from 0.6 s) the estimate travels forward. (The multi-view start's own first knots, 0.08-0.4 s,
 #    are reversed as well; its window's solve turns the direction round at 0.43 s.)
+#  - with init_weak_two_view compare: the multi-view fit fails at that attempt, so the weak two-view start
+#    is built on as recorded (the same start).
 #   weak_two_view_start.sh ASYNEVO BENCH_REPLAY_TRACKS DATA_DIR WORK_DIR
 set -eu
 asynevo=$1; replay=$2; data=$3; work=$4
@@ -21,7 +23,7 @@ reversed_percent() {  # the evaluation's share of knots from 0.6 s on travelling
       --segments none --out "$2" > "$2.log" 2>&1 || fail "asynevo eval of $1: $(tail -1 "$2.log")"
   sed -n 's/.*in reverse (> 90 deg) \([0-9.]*\) % of.*/\1/p' "$2.log"
 }
-for rule in keep confirm; do
+for rule in keep compare confirm; do
   mkdir -p "$work/$rule/run" "$work/$rule/eval"
   cp "$data/run/tracks.txt" "$data/run/backend_feed.txt" "$work/$rule/run/"
   sed "s/^backend:\$/backend:\n  init_weak_two_view: $rule/" "$data/run/config.yaml" > "$work/$rule/run/config.yaml"
@@ -31,6 +33,8 @@ for rule in keep confirm; do
 done
 keep_start=$(grep "^initial views" "$work/keep/replay.log")
 confirm_start=$(grep "^initial views" "$work/confirm/replay.log")
+compare_start=$(grep "^initial views" "$work/compare/replay.log")
+[ "$compare_start" = "$keep_start" ] || fail "with compare the start differs from the recorded one: $compare_start"
 echo "keep:    $keep_start"
 echo "confirm: $confirm_start"
 case "$keep_start" in *two-view*"14 inliers"*) ;; *) fail "as recorded the start is no longer the two-view pose of 14 inliers: $keep_start" ;; esac
