@@ -7,7 +7,6 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
-#include <utility>
 #include <vector>
 
 #include "asynevo/core/time.hpp"
@@ -67,7 +66,7 @@ VelocityErrors computeVelocityErrors(const StampedTrajectory& gt, const std::vec
   const std::vector<GtVelocity> ref = differentiate(gt, max_gt_gap_ns);
 
   std::vector<double> lin, ang, speed, rate;
-  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> directions;  // (v_e, v_g) per sample
+  std::vector<double> direction;  // angle between v_e and v_g per sample [deg]; NaN where v_e = 0
   for (const StampedTwist& tw : twists) {
     // First ground-truth sample at or after the twist's time.
     const auto hi = std::lower_bound(ref.begin(), ref.end(), tw.t_ns,
@@ -84,7 +83,8 @@ VelocityErrors computeVelocityErrors(const StampedTrajectory& gt, const std::vec
     }
     lin.push_back((scale * tw.v_c - v_g).norm());
     ang.push_back((tw.w_c - w_g).norm() * kRadToDeg);
-    directions.emplace_back(tw.v_c, v_g);
+    direction.push_back(tw.v_c.norm() > 0.0 ? std::atan2(tw.v_c.cross(v_g).norm(), tw.v_c.dot(v_g)) * kRadToDeg
+                                            : std::numeric_limits<double>::quiet_NaN());
     speed.push_back(v_g.norm());
     rate.push_back(w_g.norm() * kRadToDeg);
     r.t_s.push_back(nsToSeconds(tw.t_ns));
@@ -99,11 +99,10 @@ VelocityErrors computeVelocityErrors(const StampedTrajectory& gt, const std::vec
   r.angular_rmse_perc = r.mean_gt_rate_dps > 0.0 ? 100.0 * r.angular_dps.rmse / r.mean_gt_rate_dps : nan;
   std::vector<double> angles;
   std::size_t reversed = 0;
-  for (const auto& [v_e, v_g] : directions) {
-    if (!(v_g.norm() >= kDirectionMinSpeedFraction * r.mean_gt_speed_mps) || !(v_e.norm() > 0.0)) continue;
-    const double angle = std::atan2(v_e.cross(v_g).norm(), v_e.dot(v_g)) * kRadToDeg;
-    angles.push_back(angle);
-    reversed += angle > 90.0;
+  for (std::size_t i = 0; i < direction.size(); ++i) {
+    if (!(speed[i] >= kDirectionMinSpeedFraction * r.mean_gt_speed_mps) || !std::isfinite(direction[i])) continue;
+    angles.push_back(direction[i]);
+    reversed += direction[i] > 90.0;
   }
   r.direction_deg = computeStats(angles);
   r.reversed_fraction = angles.empty() ? nan : static_cast<double>(reversed) / static_cast<double>(angles.size());
