@@ -7,8 +7,8 @@
 //                       [--seed N] [--dump-errors FILE] [--skip-ms MS] [--window-solver ceres|builtin]
 //
 // Writes OUT_TRAJ (TUM, as the run's stamped_traj_estimate.txt), OUT_TRAJ.velocities.txt (as its
-// velocities.txt), OUT_TRAJ.segments.txt (as its segments.txt) and OUT_TRAJ.updates.csv (the update
-// records).
+// velocities.txt), OUT_TRAJ.segments.txt (as its segments.txt), OUT_TRAJ.updates.csv (the update
+// records) and, with init_depth_reversal, OUT_TRAJ.init_reversals.txt (as its init_reversals.txt).
 //
 // --oracle: positions of features on a fixed scene point replaced by their projection plus Gaussian
 // noise; features born on a depth discontinuity (no fixed 3D point) keep their measured positions.
@@ -297,6 +297,9 @@ int main(int argc, char** argv) try {
   std::sort(twists.begin(), twists.end(), [](const auto& a, const auto& b) { return a.t_ns < b.t_ns; });
   writeTumTrajectory(args.out, trajectory);
   writeVelocities(args.out + ".velocities.txt", twists);  // for 'asynevo eval --velocities'
+  // Comparisons with a depth-reversed alternative (docs/method/depth_reversal.md) as the run's init_reversals.txt.
+  if (!estimator->stats().init_reversal_log.empty())
+    std::ofstream(args.out + ".init_reversals.txt") << backend::initReversalsFileText(estimator->stats().init_reversal_log);
   // Segments (docs/method/tracking_loss.md) as the run's segments.txt, for 'asynevo eval --segments'.
   const std::vector<backend::Segment>& segments = estimator->stats().segments;
   if (!segments.empty()) {

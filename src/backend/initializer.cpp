@@ -8,8 +8,10 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/core/eigen.hpp>  // after Eigen (lie/se3.hpp, via initializer.hpp)
+#include <string_view>
 #include <vector>
 
+#include "asynevo/backend/depth_reversal.hpp"
 #include "asynevo/core/time.hpp"
 #include "view_geometry.hpp"
 
@@ -94,6 +96,28 @@ PoseFromE poseFromEssential(const cv::Mat& E, const Correspondences& c, const cv
   return best;
 }
 
+/// The correspondences a motion explains: the Sampson distance of chiralResiduals within `ransac_px`, not
+/// behind a camera (far points, below `min_angle` of parallax, count whatever their depth sign).
+PoseFromE poseFromMotion(const TwoViewMotion& m, const Correspondences& c, double focal, double ransac_px,
+                         double min_angle) {
+  std::vector<lie::Vec3> a, b;
+  for (std::size_t i = 0; i < c.a.size(); ++i) {
+    a.push_back(ray(c.a[i]));
+    b.push_back(ray(c.b[i]));
+  }
+  const std::vector<double> r = chiralResiduals(m, a, b, focal);
+  PoseFromE pose{m.R_b_a, m.t_b_a, cv::Mat::zeros(static_cast<int>(c.a.size()), 1, CV_8U), 0};
+  for (std::size_t i = 0; i < c.a.size(); ++i) {
+    // The Sampson distance, as the RANSAC of findEssentialMat measures it: 1/d² = 1/d_a² + 1/d_b².
+    const double d_a = r[2 * i], d_b = r[2 * i + 1];
+    if (d_a * d_a * d_b * d_b > ransac_px * ransac_px * (d_a * d_a + d_b * d_b)) continue;
+    if (view_geometry::chirality(m.R_b_a, m.t_b_a, a[i], b[i], min_angle) == Chirality::Behind) continue;
+    pose.inliers.at<uchar>(static_cast<int>(i)) = 1;
+    ++pose.count;
+  }
+  return pose;
+}
+
 /// Median over `mask` of the parallax angle, in pixels (angle × focal).
 double medianParallaxPx(const Correspondences& c, const lie::Mat3& R_b_a, const cv::Mat& mask, double focal) {
   std::vector<double> angles;
@@ -119,6 +143,7 @@ const char* rejectionName(InitRejection rejection) {
     case InitRejection::Model: return "model";
     case InitRejection::Inliers: return "inliers";
     case InitRejection::Parallax: return "parallax";
+    case InitRejection::Reversal: return "reversal";
     case InitRejection::Agreement: return "agreement";
     case InitRejection::Landmarks: return "landmarks";
   }
@@ -156,11 +181,43 @@ InitResult initializeTwoViewSpan(const TrackMap& tracks, int64_t t_a, int64_t t_
     return r;
   }
   // Depth signs are trusted from twice the RANSAC threshold of parallax on.
-  const PoseFromE pose = poseFromEssential(E, c, ransac_mask, 2.0 * config.init_ransac_px / focal);
+  const double min_angle = 2.0 * config.init_ransac_px / focal;
+  PoseFromE pose = poseFromEssential(E, c, ransac_mask, min_angle);
   if (pose.count < config.init_min_inliers) {
     r.rejection = InitRejection::Inliers;
     r.failure = fmt::format("{}: {} inliers not behind a camera (need {})", span, pose.count, config.init_min_inliers);
     return r;
+  }
+  // The depth-reversed alternative (init_depth_reversal): the translation reversed, the rotation turned
+  // further, fitted to every correspondence; a clearly better fit is built on, and "wait" leaves a tie.
+  if (config.init_depth_reversal != "off") {
+    std::vector<lie::Vec3> a, b;
+    for (std::size_t i = 0; i < c.a.size(); ++i) {
+      a.push_back(ray(c.a[i]));
+      b.push_back(ray(c.b[i]));
+    }
+    const auto reversal = findDepthReversal(TwoViewMotion{pose.R_b_a, pose.t_b_a}, a, b, focal, config.init_ransac_px);
+    ReversalCheck check{t_a, t_b, r.method, n, reversal.given_cost, reversal.reversed_cost, reversal.reversed.has_value(),
+                        pose.t_b_a, reversal.reversed ? reversal.reversed->t_b_a : lie::Vec3::Zero()};
+    check.decision = reversalDecision(reversal.given_cost,
+                                      reversal.reversed ? std::optional<double>(reversal.reversed_cost) : std::nullopt,
+                                      config.init_depth_reversal, config.init_reversal_margin);
+    r.reversal_checks.push_back(check);
+    if (std::string_view(check.decision) == "tie") {
+      r.rejection = InitRejection::Reversal;
+      r.failure = span + ": " + reversalTieText(n, reversal.given_cost, reversal.reversed_cost, config.init_reversal_margin);
+      return r;
+    }
+    if (std::string_view(check.decision) == "reversed") {
+      pose = poseFromMotion(*reversal.reversed, c, focal, config.init_ransac_px, min_angle);
+      r.depth_reversed = true;
+      if (pose.count < config.init_min_inliers) {
+        r.rejection = InitRejection::Inliers;
+        r.failure = fmt::format("{}: {} inliers of the depth-reversed motion, which fits better (need {})", span,
+                                pose.count, config.init_min_inliers);
+        return r;
+      }
+    }
   }
   // Only translation makes parallax: a mostly rotating camera moves the image a lot but leaves the
   // baseline direction undetermined. Measure the motion that is left once the rotation is undone.
@@ -186,12 +243,14 @@ InitResult initializeTwoView(const TrackMap& tracks, int64_t earliest_ns, int64_
   InitResult best;
   best.t_b_ns = t_b_ns;
   std::string failures;
+  std::vector<ReversalCheck> checks;
   int64_t previous_t_a = t_b_ns;
   for (int part = kInitSpans; part >= 1; --part) {
     const int64_t t_a = std::max(earliest_ns, t_b_ns - window_ns * part / kInitSpans);
     if (t_b_ns - t_a < window_ns / kInitSpans || t_a == previous_t_a) continue;
     previous_t_a = t_a;
     InitResult r = initializeTwoViewSpan(tracks, t_a, t_b_ns, focal, config);
+    checks.insert(checks.end(), r.reversal_checks.begin(), r.reversal_checks.end());
     if (!r.ok) {
       failures += r.failure + "; ";
       best.rejection = std::max(best.rejection, r.rejection);
@@ -203,6 +262,7 @@ InitResult initializeTwoView(const TrackMap& tracks, int64_t earliest_ns, int64_
     best.failure = failures.empty() ? "not enough feature time span yet" : failures;
     if (failures.empty()) best.rejection = InitRejection::Features;
   }
+  best.reversal_checks = std::move(checks);
   return best;
 }
 

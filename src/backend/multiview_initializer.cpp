@@ -7,8 +7,10 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <string_view>
 #include <vector>
 
+#include "asynevo/backend/depth_reversal.hpp"
 #include "asynevo/core/time.hpp"
 #include "asynevo/lie/se3.hpp"
 #include "small_lm.hpp"
@@ -257,6 +259,40 @@ InitResult initializeMultiView(const TrackMap& tracks, int64_t earliest_ns, int6
     r.failure = fmt::format("{}: {} of {} features fit one constant twist in front of the cameras (need {})", span,
                             r.inliers, r.features, config.init_min_inliers);
     return r;
+  }
+  // The depth-reversed alternative (init_depth_reversal), fitted to every feature's longest pair: a
+  // clearly better fit is built on, and "wait" leaves a tie.
+  if (config.init_depth_reversal != "off") {
+    std::vector<BearingPair> longest;
+    for (const int k : s.longest) longest.push_back({s.pairs[k].f_s, s.pairs[k].f_e, s.pairs[k].dt});
+    const auto reversal = findDepthReversal(ConstantTwist{w.phi, w.rho}, longest, focal, config.init_ransac_px);
+    const double span_s = durationSeconds(r.t_a_ns, t_b_ns);
+    ReversalCheck check{r.t_a_ns, t_b_ns, r.method, r.features, reversal.given_cost, reversal.reversed_cost,
+                        reversal.reversed.has_value(), motionOver(ConstantTwist{w.phi, w.rho}, span_s).t_b_a,
+                        reversal.reversed ? motionOver(*reversal.reversed, span_s).t_b_a : lie::Vec3::Zero()};
+    check.decision = reversalDecision(reversal.given_cost,
+                                      reversal.reversed ? std::optional<double>(reversal.reversed_cost) : std::nullopt,
+                                      config.init_depth_reversal, config.init_reversal_margin);
+    r.reversal_checks.push_back(check);
+    if (std::string_view(check.decision) == "tie") {
+      r.rejection = InitRejection::Reversal;
+      r.failure = span + ": " +
+                  reversalTieText(r.features, reversal.given_cost, reversal.reversed_cost, config.init_reversal_margin);
+      return r;
+    }
+    if (std::string_view(check.decision) == "reversed") {
+      w = Twist{reversal.reversed->phi, reversal.reversed->rho};
+      fits = fittingFeatures(w, s, c);
+      int front = 0;
+      sides(w, &front, &r.inliers);
+      r.depth_reversed = true;
+      if (r.inliers < config.init_min_inliers) {
+        r.rejection = InitRejection::Inliers;
+        r.failure = fmt::format("{}: {} of {} features fit the depth-reversed twist, which fits better (need {})", span,
+                                r.inliers, r.features, config.init_min_inliers);
+        return r;
+      }
+    }
   }
   // Parallax once the rotation is removed, each fitting feature's longest pair (r.parallax_px: their RMS).
   std::vector<double> parallax;

@@ -157,6 +157,10 @@ InitResult SlidingWindowEstimator::findInitialMotion(int64_t earliest_ns, int64_
     if (two_view.ok && !weak) return two_view;
   }
   InitResult multi_view = initializeMultiView(tracks_, earliest_ns, t_b_ns, options_.focal_px, config);
+  // Both methods' comparisons with a depth-reversed alternative are logged, whichever result is returned.
+  multi_view.reversal_checks.insert(multi_view.reversal_checks.begin(), two_view.reversal_checks.begin(),
+                                    two_view.reversal_checks.end());
+  two_view.reversal_checks = multi_view.reversal_checks;
   if (two_view.ok) {
     if (!multi_view.ok && options_.config.init_weak_two_view == "confirm") {
       InitResult wait = two_view;
@@ -246,6 +250,9 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   const bool relaxed_counts = relaxed(t_ns);
   const InitResult motion =
       findInitialMotion(std::max(first_measurement_ns_, horizon), t_ns - knot_dt_ns_, config, relaxed_counts);
+  for (const ReversalCheck& check : motion.reversal_checks) {
+    if (stats_.init_reversal_log.size() < kMaxInitAttemptsLogged) stats_.init_reversal_log.push_back(check);
+  }
   if (!motion.ok) {
     if (relaxed_counts) {
       const bool features = motion.rejection == InitRejection::Features;
@@ -325,6 +332,7 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
                                   {first.pose.data(), far.pose.data()}},
                       {first.t_ns, far.t_ns}});
   if (motion.replaced_two_view) ++stats_.init_weak_two_view_replaced;
+  if (motion.depth_reversed) ++stats_.init_depth_reversed;
   if (!stats_.initialized) {
     stats_.initialized = true;
     stats_.initialized_at_ns = t_ns;

@@ -297,6 +297,8 @@ RunSummary runDataset(const RunOptions& options, const std::function<void(const 
   if (!summary.estimator.init_attempt_log.empty())
     writer.writeText("init_attempts.txt", backend::initAttemptsFileText(summary.estimator.init_attempt_log,
                                                                       summary.estimator.init_attempts_not_logged));
+  if (!summary.estimator.init_reversal_log.empty())
+    writer.writeText("init_reversals.txt", backend::initReversalsFileText(summary.estimator.init_reversal_log));
   writer.writeText("stats.json", runStatsJson(summary, options) + "\n");
   return summary;
 }
@@ -430,6 +432,7 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("init_retriangulations", e.init_retriangulations)
       .add("init_two_view_landmark_starts", e.init_two_view_landmark_starts)
       .add("init_weak_two_view_replaced", e.init_weak_two_view_replaced)
+      .add("init_depth_reversed", e.init_depth_reversed)
       .add("init_relaxed_again", e.init_relaxed_again)
       .add("init_restarts_relaxed", e.init_restarts_relaxed)
       .add("init_span_ms", e.init_views.span_ms)

@@ -10,6 +10,10 @@
 #    are reversed as well; its window's solve turns the direction round at 0.43 s.)
 #  - with init_weak_two_view compare: the multi-view fit fails at that attempt, so the weak two-view start
 #    is built on as recorded (the same start).
+#  - with init_depth_reversal wait: the five-point pose of that attempt has a depth-reversed alternative
+#    that fits its 16 features within 13 % (a tie, init_reversal_margin 0.2), and so has the multi-view
+#    fit; the attempt waits (a 'reversal' rejection), and the start comes two attempts later from a
+#    two-view pose whose alternative fits far worse; from 0.6 s the estimate travels forward.
 #   weak_two_view_start.sh ASYNEVO BENCH_REPLAY_TRACKS DATA_DIR WORK_DIR
 set -eu
 asynevo=$1; replay=$2; data=$3; work=$4
@@ -23,10 +27,12 @@ reversed_percent() {  # the evaluation's share of knots from 0.6 s on travelling
       --segments none --out "$2" > "$2.log" 2>&1 || fail "asynevo eval of $1: $(tail -1 "$2.log")"
   sed -n 's/.*in reverse (> 90 deg) \([0-9.]*\) % of.*/\1/p' "$2.log"
 }
-for rule in keep compare confirm; do
+for rule in keep compare confirm reversal; do
   mkdir -p "$work/$rule/run" "$work/$rule/eval"
   cp "$data/run/tracks.txt" "$data/run/backend_feed.txt" "$work/$rule/run/"
-  sed "s/^backend:\$/backend:\n  init_weak_two_view: $rule/" "$data/run/config.yaml" > "$work/$rule/run/config.yaml"
+  setting="init_weak_two_view: $rule"
+  [ "$rule" = reversal ] && setting="init_depth_reversal: wait"
+  sed "s/^backend:\$/backend:\n  $setting/" "$data/run/config.yaml" > "$work/$rule/run/config.yaml"
   "$replay" "$work/$rule/run" "$data/sequence" "$work/$rule/traj.txt" > "$work/$rule/replay.log" 2>&1 ||
     fail "the replay with $rule: $(tail -1 "$work/$rule/replay.log")"
   grep -q "initialized true" "$work/$rule/replay.log" || fail "$rule: the replay never initialized"
@@ -45,4 +51,14 @@ confirm_rev=$(reversed_percent "$work/confirm/traj.txt" "$work/confirm/eval")
 echo "travelling in reverse from 0.6 s on: keep $keep_rev %, confirm $confirm_rev %"
 awk -v k="$keep_rev" -v c="$confirm_rev" 'BEGIN { exit !(k > 80 && c < 5) }' ||
   fail "expected the recorded start's knots in reverse (> 80 %) and those of confirm forward (< 5 % reversed)"
-echo "a weak two-view start that travels backwards waits for the multi-view fit with confirm"
+reversal_start=$(grep "^initial views" "$work/reversal/replay.log")
+echo "reversal: $reversal_start"
+case "$reversal_start" in *two-view*) ;; *) fail "with init_depth_reversal wait the start is not a two-view pose: $reversal_start" ;; esac
+[ "$reversal_start" != "$keep_start" ] || fail "with init_depth_reversal wait the recorded start was built on"
+reversal_rev=$(reversed_percent "$work/reversal/traj.txt" "$work/reversal/eval")
+echo "travelling in reverse from 0.6 s on with init_depth_reversal wait: $reversal_rev %"
+grep -q "the depth-reversed motion fits 16 features within" "$work/reversal/replay.log" ||
+  fail "with init_depth_reversal wait no attempt says that it waited for a tie of the depth-reversed motion"
+awk -v r="$reversal_rev" 'BEGIN { exit !(r < 5) }' || fail "with init_depth_reversal wait the estimate still travels in reverse"
+echo "a weak two-view start that travels backwards waits for the multi-view fit with confirm, and for a"
+echo "later two-view pose when its depth-reversed alternative fits as well"

@@ -119,6 +119,26 @@ TEST(Config, AnUnknownRuleForWeakTwoViewStartsIsRejectedWithItsKey) {
   }
 }
 
+TEST(Config, TheDepthReversalRuleAndItsMarginAreCheckedWithTheirKeys) {
+  for (const char* rule : {"off", "best", "wait"}) {
+    Config config;
+    applyConfigYaml(std::string("backend:\n  init_depth_reversal: ") + rule + "\n", "x.yaml", config);
+    EXPECT_EQ(config.backend.init_depth_reversal, rule);
+  }
+  const auto error = [](const std::string& yaml) {
+    Config config;
+    try {
+      applyConfigYaml(yaml, "x.yaml", config);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(error("backend:\n  init_depth_reversal: always\n").find("backend.init_depth_reversal = 'always'"),
+            std::string::npos);
+  EXPECT_NE(error("backend:\n  init_reversal_margin: 1.5\n").find("backend.init_reversal_margin"), std::string::npos);
+}
+
 TEST(Config, AFeatureBudgetLargerThanTheSensorHoldsIsRejectedWithItsKeys) {
   Config config;  // 240x180, border 16 px, features 15 px apart: 208 x 148 px hold 158 hexagonally
   config.validateForSensor();

@@ -56,6 +56,9 @@ struct EstimatorStats {
   /// Every failed attempt, oldest first, up to kMaxInitAttemptsLogged (init_attempts.txt).
   std::vector<InitAttempt> init_attempt_log;
   uint64_t init_attempts_not_logged = 0;  ///< failed attempts past kMaxInitAttemptsLogged
+  /// Every comparison of a start's motion with its depth-reversed alternative (init_depth_reversal),
+  /// oldest first, up to kMaxInitAttemptsLogged (init_reversals.txt).
+  std::vector<ReversalCheck> init_reversal_log;
   /// Attempts whose knots were refitted (init_refine_rotations) after too few landmarks triangulated.
   uint64_t init_rotation_refits = 0;
   /// Starts whose first solve let more trajectories become landmarks (init_retriangulate).
@@ -64,6 +67,8 @@ struct EstimatorStats {
   uint64_t init_two_view_landmark_starts = 0;
   /// Starts made from the multi-view fit instead of a weak two-view pose (init_weak_two_view).
   uint64_t init_weak_two_view_replaced = 0;
+  /// Two-view starts built on the depth-reversed alternative of their five-point pose (init_depth_reversal).
+  uint64_t init_depth_reversed = 0;
   /// Times the counts were relaxed a second time (init_relax_again_after_ms; granted only where the
   /// once-relaxed attempts failed mostly for lack of features), over the first start and every restart.
   uint64_t init_relaxed_again = 0;

@@ -27,4 +27,10 @@ inline constexpr std::size_t kMaxInitAttemptsLogged = 20000;
 /// a last comment line with the number of attempts not listed, when there are any.
 std::string initAttemptsFileText(const std::vector<InitAttempt>& attempts, uint64_t not_logged);
 
+/// init_reversals.txt: a comment header, then per comparison with a depth-reversed alternative
+/// `t_a_s t_b_s method features cost reversed_cost tx ty tz rx ry rz decision` (the translation
+/// directions x_b = R x_a + t of the motion and of its alternative; the alternative's cost and direction
+/// are 0 when none was found).
+std::string initReversalsFileText(const std::vector<ReversalCheck>& checks);
+
 }  // namespace asynevo::backend

@@ -125,6 +125,14 @@ struct BackendConfig {
   /// tries the multi-view start of the same attempt too and takes the one with more inliers; "confirm"
   /// does the same but waits when the multi-view start fails.
   std::string init_weak_two_view = "keep";
+  /// The depth-reversed alternative of a start's motion (docs/method/depth_reversal.md): "off" builds on
+  /// the motion found; "best" also fits the alternative with the translation reversed and builds on it
+  /// when its cost is below (1 − init_reversal_margin) times the motion's; "wait" does the same but
+  /// rejects the span (a 'reversal' rejection) when the two costs lie within the margin of each other.
+  std::string init_depth_reversal = "off";
+  /// How much lower the alternative's cost must be to be built on (a fraction of the motion's cost); with
+  /// "wait", costs this close are a tie that the span cannot decide.
+  double init_reversal_margin = 0.2;
 
   // --- tracking loss (docs/method/tracking_loss.md): the segment ends, the estimator starts again ---
   double loss_max_event_gap_ms = 250.0;  ///< a gap in the events longer than this ends the segment (0 = off)
@@ -209,6 +217,12 @@ struct BackendConfig {
       "initialization: too few landmarks against the start's knots: triangulate from the start's two views alone");
     v("init_weak_two_view", init_weak_two_view,
       "initialization: a two-view start below the unrelaxed inlier count: keep, compare (with the multi-view start) or confirm (by it)");
+    v("init_depth_reversal", init_depth_reversal,
+      "initialization: the depth-reversed alternative of a start's motion: off, best (built on when it fits "
+      "better by the margin) or wait (the same, rejecting a near tie)");
+    v("init_reversal_margin", init_reversal_margin,
+      "initialization: the depth-reversed alternative is built on when its cost is lower by this fraction; with "
+      "wait, costs this close are a tie");
     v("init_retriangulate", init_retriangulate,
       "initialization: after the start's solve, triangulate the remaining trajectories again and solve again");
     v("loss_max_event_gap_ms", loss_max_event_gap_ms,
