@@ -33,21 +33,30 @@ def rotation(qx, qy, qz, qw):
             (2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)))
 
 
-def read_groundtruth(path):
-    times, poses = [], []
+def data_lines(path, fields):
+    """(line number, numbers) of each data line of a text file with `fields` fields per line; the last
+    text fields (after the numbers) are kept as strings. Exits naming the file and line on a bad one."""
     with open(path) as f:
         for number, line in enumerate(f, 1):
             if not line.strip() or line.startswith("#"):
                 continue
             v = line.split()
             try:
-                if len(v) != 8:
-                    raise ValueError("%d fields, need 8" % len(v))
-                t, px, py, pz, qx, qy, qz, qw = map(float, v)
+                if len(v) != len(fields):
+                    raise ValueError("%d fields, need %d" % (len(v), len(fields)))
+                values = [float(x) if kind == "number" else x for x, kind in zip(v, fields)]
             except ValueError as e:
                 raise SystemExit("reversal_truth: %s line %d: %s" % (path, number, e))
-            times.append(t)
-            poses.append((rotation(qx, qy, qz, qw), (px, py, pz)))
+            if not all(math.isfinite(x) for x in values if isinstance(x, float)):
+                raise SystemExit("reversal_truth: %s line %d: a value is not finite" % (path, number))
+            yield values
+
+
+def read_groundtruth(path):
+    times, poses = [], []
+    for t, px, py, pz, qx, qy, qz, qw in data_lines(path, ["number"] * 8):
+        times.append(t)
+        poses.append((rotation(qx, qy, qz, qw), (px, py, pz)))
     if not times:
         raise SystemExit("reversal_truth: %s: no poses" % path)
     return times, poses
@@ -75,25 +84,13 @@ def angle_deg(u, v):
     return math.degrees(math.acos(c))
 
 
+# init_reversals.txt: t_a_s t_b_s method features cost reversed_cost tx ty tz rx ry rz decision
+CHECK_FIELDS = ["number", "number", "text", "number", "number", "number"] + ["number"] * 6 + ["text"]
+
+
 def read_checks(path):
     """The comparisons of one init_reversals file: (t_a, t_b, method, cost, reversed_cost, t, reversed_t)."""
-    checks = []
-    with open(path) as f:
-        for number, line in enumerate(f, 1):
-            if not line.strip() or line.startswith("#"):
-                continue
-            v = line.split()
-            try:
-                if len(v) != 13:
-                    raise ValueError("%d fields, need 13" % len(v))
-                numbers = [float(x) for x in v[:2] + v[4:12]]
-            except ValueError as e:
-                raise SystemExit("reversal_truth: %s line %d: %s" % (path, number, e))
-            if not all(math.isfinite(x) for x in numbers):
-                raise SystemExit("reversal_truth: %s line %d: a value is not finite" % (path, number))
-            t_a, t_b, cost, reversed_cost = numbers[:4]
-            checks.append((t_a, t_b, v[2], cost, reversed_cost, numbers[4:7], numbers[7:10]))
-    return checks
+    return [(v[0], v[1], v[2], v[4], v[5], v[6:9], v[9:12]) for v in data_lines(path, CHECK_FIELDS)]
 
 
 def log_of(run_dir):

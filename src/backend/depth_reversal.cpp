@@ -165,19 +165,23 @@ DepthReversal<TwoViewMotion> findDepthReversal(const TwoViewMotion& start, const
   return result;
 }
 
-const char* reversalDecision(double cost, const std::optional<double>& reversed_cost, const std::string& rule,
-                             double margin) {
-  if (!reversed_cost) return "kept";
-  const double ratio = *reversed_cost / std::max(cost, 1e-12);
-  if (rule == "wait" && std::abs(ratio - 1.0) <= margin) return "tie";
-  return ratio < 1.0 - margin ? "reversed" : "kept";
-}
-
-std::string reversalTieText(int features, double cost, double reversed_cost, double margin) {
-  return fmt::format("the depth-reversed motion fits {} features within {:.0f} % (cost {:.2f} against {:.2f}, need a "
-                     "margin of {:.0f} %)",
-                     features, std::abs(reversed_cost / std::max(cost, 1e-12) - 1.0) * 100.0, reversed_cost, cost,
-                     margin * 100.0);
+std::string_view decideReversal(ReversalCheck check, const std::string& span, const BackendConfig& config,
+                                InitResult* r) {
+  const double margin = config.init_reversal_margin;
+  const double ratio = check.reversed_cost / std::max(check.cost, 1e-12);
+  check.decision = !check.found                                                          ? "kept"
+                   : config.init_depth_reversal == "wait" && std::abs(ratio - 1.0) <= margin ? "tie"
+                   : ratio < 1.0 - margin                                                  ? "reversed"
+                                                                                           : "kept";
+  r->reversal_checks.push_back(check);
+  if (std::string_view(check.decision) == "tie") {
+    r->rejection = InitRejection::Reversal;
+    r->failure = fmt::format("{}: the depth-reversed motion fits {} features within {:.0f} % (cost {:.2f} against "
+                             "{:.2f}, need a margin of {:.0f} %)",
+                             span, check.features, std::abs(ratio - 1.0) * 100.0, check.reversed_cost, check.cost,
+                             margin * 100.0);
+  }
+  return check.decision;
 }
 
 }  // namespace asynevo::backend

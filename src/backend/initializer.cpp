@@ -197,18 +197,12 @@ InitResult initializeTwoViewSpan(const TrackMap& tracks, int64_t t_a, int64_t t_
       b.push_back(ray(c.b[i]));
     }
     const auto reversal = findDepthReversal(TwoViewMotion{pose.R_b_a, pose.t_b_a}, a, b, focal, config.init_ransac_px);
-    ReversalCheck check{t_a, t_b, r.method, n, reversal.given_cost, reversal.reversed_cost, reversal.reversed.has_value(),
-                        pose.t_b_a, reversal.reversed ? reversal.reversed->t_b_a : lie::Vec3::Zero()};
-    check.decision = reversalDecision(reversal.given_cost,
-                                      reversal.reversed ? std::optional<double>(reversal.reversed_cost) : std::nullopt,
-                                      config.init_depth_reversal, config.init_reversal_margin);
-    r.reversal_checks.push_back(check);
-    if (std::string_view(check.decision) == "tie") {
-      r.rejection = InitRejection::Reversal;
-      r.failure = span + ": " + reversalTieText(n, reversal.given_cost, reversal.reversed_cost, config.init_reversal_margin);
-      return r;
-    }
-    if (std::string_view(check.decision) == "reversed") {
+    const std::string_view decision =
+        decideReversal({t_a, t_b, r.method, n, reversal.given_cost, reversal.reversed_cost, reversal.reversed.has_value(),
+                        pose.t_b_a, reversal.reversed ? reversal.reversed->t_b_a : lie::Vec3::Zero()},
+                       span, config, &r);
+    if (decision == "tie") return r;
+    if (decision == "reversed") {
       pose = poseFromMotion(*reversal.reversed, c, focal, config.init_ransac_px, min_angle);
       r.depth_reversed = true;
       if (pose.count < config.init_min_inliers) {

@@ -267,20 +267,13 @@ InitResult initializeMultiView(const TrackMap& tracks, int64_t earliest_ns, int6
     for (const int k : s.longest) longest.push_back({s.pairs[k].f_s, s.pairs[k].f_e, s.pairs[k].dt});
     const auto reversal = findDepthReversal(ConstantTwist{w.phi, w.rho}, longest, focal, config.init_ransac_px);
     const double span_s = durationSeconds(r.t_a_ns, t_b_ns);
-    ReversalCheck check{r.t_a_ns, t_b_ns, r.method, r.features, reversal.given_cost, reversal.reversed_cost,
-                        reversal.reversed.has_value(), motionOver(ConstantTwist{w.phi, w.rho}, span_s).t_b_a,
-                        reversal.reversed ? motionOver(*reversal.reversed, span_s).t_b_a : lie::Vec3::Zero()};
-    check.decision = reversalDecision(reversal.given_cost,
-                                      reversal.reversed ? std::optional<double>(reversal.reversed_cost) : std::nullopt,
-                                      config.init_depth_reversal, config.init_reversal_margin);
-    r.reversal_checks.push_back(check);
-    if (std::string_view(check.decision) == "tie") {
-      r.rejection = InitRejection::Reversal;
-      r.failure = span + ": " +
-                  reversalTieText(r.features, reversal.given_cost, reversal.reversed_cost, config.init_reversal_margin);
-      return r;
-    }
-    if (std::string_view(check.decision) == "reversed") {
+    const std::string_view decision = decideReversal(
+        {r.t_a_ns, t_b_ns, r.method, r.features, reversal.given_cost, reversal.reversed_cost,
+         reversal.reversed.has_value(), motionOver(ConstantTwist{w.phi, w.rho}, span_s).t_b_a,
+         reversal.reversed ? motionOver(*reversal.reversed, span_s).t_b_a : lie::Vec3::Zero()},
+        span, config, &r);
+    if (decision == "tie") return r;
+    if (decision == "reversed") {
       w = Twist{reversal.reversed->phi, reversal.reversed->rho};
       fits = fittingFeatures(w, s, c);
       int front = 0;

@@ -9,8 +9,11 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "asynevo/backend/init_result.hpp"
+#include "asynevo/core/config/backend_config.hpp"
 #include "asynevo/lie/so3.hpp"
 
 namespace asynevo::backend {
@@ -71,13 +74,12 @@ DepthReversal<ConstantTwist> findDepthReversal(const ConstantTwist& start, const
 DepthReversal<TwoViewMotion> findDepthReversal(const TwoViewMotion& start, const std::vector<lie::Vec3>& a,
                                                const std::vector<lie::Vec3>& b, double focal, double cauchy_px);
 
-/// What the rule of init_depth_reversal ("best" or "wait", with init_reversal_margin) makes of a
-/// comparison: "reversed" (build on the alternative: its cost is below (1 − margin) × the motion's),
-/// "tie" ("wait" only: the costs within the margin of each other) or "kept".
-const char* reversalDecision(double cost, const std::optional<double>& reversed_cost, const std::string& rule,
-                             double margin);
-
-/// init_attempts.txt's reason for a tie: `the depth-reversed motion fits N features within P % (cost …)`.
-std::string reversalTieText(int features, double cost, double reversed_cost, double margin);
+/// Decides a comparison by the rule of init_depth_reversal ("best" or "wait", with
+/// init_reversal_margin), logs it in r->reversal_checks and returns the decision: "reversed" (build on
+/// the alternative: its cost is below (1 − margin) × the motion's), "tie" ("wait" only: the costs within
+/// the margin of each other; r is then rejected as a reversal, its failure `SPAN: the depth-reversed
+/// motion fits N features within P % (cost …)`) or "kept".
+std::string_view decideReversal(ReversalCheck check, const std::string& span, const BackendConfig& config,
+                                InitResult* r);
 
 }  // namespace asynevo::backend
