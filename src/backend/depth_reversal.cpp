@@ -169,17 +169,29 @@ std::string_view decideReversal(ReversalCheck check, const std::string& span, co
                                 InitResult* r) {
   const double margin = config.init_reversal_margin;
   const double ratio = check.reversed_cost / std::max(check.cost, 1e-12);
-  check.decision = !check.found                                                          ? "kept"
-                   : config.init_depth_reversal == "wait" && std::abs(ratio - 1.0) <= margin ? "tie"
-                   : ratio < 1.0 - margin                                                  ? "reversed"
-                                                                                           : "kept";
+  const std::string& rule = config.init_depth_reversal;
+  check.decision = "kept";
+  if (check.found && rule == "strict") {
+    if (ratio * (1.0 - margin) < 1.0) check.decision = "tie";  // not dearer by 1 / (1 − margin)
+  } else if (check.found) {
+    if (rule == "wait" && std::abs(ratio - 1.0) <= margin) {
+      check.decision = "tie";
+    } else if (ratio < 1.0 - margin) {
+      check.decision = "reversed";
+    }
+  }
   r->reversal_checks.push_back(check);
   if (std::string_view(check.decision) == "tie") {
     r->rejection = InitRejection::Reversal;
-    r->failure = fmt::format("{}: the depth-reversed motion fits {} features within {:.0f} % (cost {:.2f} against "
-                             "{:.2f}, need a margin of {:.0f} %)",
-                             span, check.features, std::abs(ratio - 1.0) * 100.0, check.reversed_cost, check.cost,
-                             margin * 100.0);
+    r->failure =
+        rule == "strict"
+            ? fmt::format("{}: the depth-reversed motion fits {} features at a cost of {:.2f} against {:.2f} (need it "
+                          "{:.0f} % dearer)",
+                          span, check.features, check.reversed_cost, check.cost, (1.0 / (1.0 - margin) - 1.0) * 100.0)
+            : fmt::format("{}: the depth-reversed motion fits {} features within {:.0f} % (cost {:.2f} against "
+                          "{:.2f}, need a margin of {:.0f} %)",
+                          span, check.features, std::abs(ratio - 1.0) * 100.0, check.reversed_cost, check.cost,
+                          margin * 100.0);
   }
   return check.decision;
 }

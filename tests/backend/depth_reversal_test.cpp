@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <random>
+#include <string>
+#include <utility>
 
 #include "asynevo/lie/se3.hpp"
 
@@ -149,6 +152,48 @@ TEST(DepthReversal, MotionOverATwistMovesPointsFromTheFirstCameraToTheSecond) {
   EXPECT_NEAR(m.t_b_a.norm(), 1.0, 1e-12);
   const double scale = T_s_e.translation().norm();
   EXPECT_LT((m.R_b_a * p_s + scale * m.t_b_a - p_e).norm(), 1e-12);
+}
+
+/// The decision of each rule on a comparison whose alternative costs `ratio` times the motion's.
+std::string decided(const char* rule, double ratio, InitResult* r) {
+  BackendConfig config;
+  config.init_depth_reversal = rule;
+  config.init_reversal_margin = 0.2;
+  ReversalCheck check;
+  check.features = 20;
+  check.cost = 10.0;
+  check.reversed_cost = 10.0 * ratio;
+  check.found = true;
+  return std::string(decideReversal(check, "167 ms", config, r));
+}
+
+TEST(DepthReversal, EachRuleDecidesByTheRatioOfTheTwoCostsAndTheMargin) {
+  // best: the alternative only when cheaper by the margin; wait: also a tie within it; strict: a start
+  // only when the alternative is dearer by 1 / (1 - margin) = 1.25.
+  const std::vector<std::pair<double, std::array<const char*, 3>>> cases = {
+      {0.7, {"reversed", "reversed", "tie"}}, {0.85, {"kept", "tie", "tie"}}, {1.1, {"kept", "tie", "tie"}},
+      {1.22, {"kept", "kept", "tie"}},        {1.3, {"kept", "kept", "kept"}}};
+  for (const auto& [ratio, expected] : cases) {
+    int k = 0;
+    for (const char* rule : {"best", "wait", "strict"}) {
+      InitResult r;
+      EXPECT_EQ(decided(rule, ratio, &r), expected[k]) << rule << " at " << ratio;
+      ASSERT_EQ(r.reversal_checks.size(), 1u);
+      EXPECT_STREQ(r.reversal_checks[0].decision, expected[k]);
+      if (std::string(expected[k]) == "tie") {
+        EXPECT_EQ(r.rejection, InitRejection::Reversal);
+        EXPECT_NE(r.failure.find("167 ms: the depth-reversed motion fits 20 features"), std::string::npos) << r.failure;
+      } else {
+        EXPECT_EQ(r.rejection, InitRejection::None);
+      }
+      ++k;
+    }
+  }
+  InitResult none;
+  ReversalCheck no_alternative;
+  BackendConfig config;
+  config.init_depth_reversal = "strict";
+  EXPECT_EQ(decideReversal(no_alternative, "x", config, &none), "kept");
 }
 
 }  // namespace

@@ -74,11 +74,11 @@ DepthReversal<ConstantTwist> findDepthReversal(const ConstantTwist& start, const
 DepthReversal<TwoViewMotion> findDepthReversal(const TwoViewMotion& start, const std::vector<lie::Vec3>& a,
                                                const std::vector<lie::Vec3>& b, double focal, double cauchy_px);
 
-/// Decides a comparison by the rule of init_depth_reversal ("best" or "wait", with
-/// init_reversal_margin), logs it in r->reversal_checks and returns the decision: "reversed" (build on
-/// the alternative: its cost is below (1 − margin) × the motion's), "tie" ("wait" only: the costs within
-/// the margin of each other; r is then rejected as a reversal, its failure `SPAN: the depth-reversed
-/// motion fits N features within P % (cost …)`) or "kept".
+/// Decides a comparison by the rule of init_depth_reversal ("best", "wait" or "strict", with
+/// init_reversal_margin m), logs it in r->reversal_checks and returns the decision: "reversed" (best and
+/// wait: build on the alternative, its cost is below (1 − m) × the motion's), "tie" (wait: the costs
+/// within m of each other; strict: the alternative not dearer than the motion by 1 / (1 − m); r is then
+/// rejected as a reversal, its failure naming the span, the features and both costs) or "kept".
 std::string_view decideReversal(ReversalCheck check, const std::string& span, const BackendConfig& config,
                                 InitResult* r);
 

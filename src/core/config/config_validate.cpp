@@ -126,8 +126,9 @@ void BackendConfig::validate() const {
   if (init_weak_two_view != "keep" && init_weak_two_view != "compare" && init_weak_two_view != "confirm")
     throw ConfigError(fmt::format(
         "configuration value backend.init_weak_two_view = '{}' is not one of keep, compare, confirm", init_weak_two_view));
-  if (init_depth_reversal != "off" && init_depth_reversal != "best" && init_depth_reversal != "wait")
-    throw ConfigError(fmt::format("configuration value backend.init_depth_reversal = '{}' is not one of off, best, wait",
+  if (init_depth_reversal != "off" && init_depth_reversal != "best" && init_depth_reversal != "wait" &&
+      init_depth_reversal != "strict")
+    throw ConfigError(fmt::format("configuration value backend.init_depth_reversal = '{}' is not one of off, best, wait, strict",
                                   init_depth_reversal));
   requireRange("backend.init_reversal_margin", init_reversal_margin, 0.0, 1.0);
   requireRange("backend.loss_max_event_gap_ms", loss_max_event_gap_ms, 0.0, 1e9);

@@ -128,7 +128,9 @@ struct BackendConfig {
   /// The depth-reversed alternative of a start's motion (docs/method/depth_reversal.md): "off" builds on
   /// the motion found; "best" also fits the alternative with the translation reversed and builds on it
   /// when its cost is below (1 − init_reversal_margin) times the motion's; "wait" does the same but
-  /// rejects the span (a 'reversal' rejection) when the two costs lie within the margin of each other.
+  /// rejects the span (a 'reversal' rejection) when the two costs lie within the margin of each other;
+  /// "strict" never builds on the alternative and rejects the span unless the alternative is dearer than
+  /// the motion by 1 / (1 − init_reversal_margin).
   std::string init_depth_reversal = "off";
   /// How much lower the alternative's cost must be to be built on (a fraction of the motion's cost); with
   /// "wait", costs this close are a tie that the span cannot decide.
@@ -219,7 +221,8 @@ struct BackendConfig {
       "initialization: a two-view start below the unrelaxed inlier count: keep, compare (with the multi-view start) or confirm (by it)");
     v("init_depth_reversal", init_depth_reversal,
       "initialization: the depth-reversed alternative of a start's motion: off, best (built on when it fits "
-      "better by the margin) or wait (the same, rejecting a near tie)");
+      "better by the margin), wait (the same, rejecting a near tie) or strict (a start only when it fits worse "
+      "by the margin)");
     v("init_reversal_margin", init_reversal_margin,
       "initialization: the depth-reversed alternative is built on when its cost is lower by this fraction; with "
       "wait, costs this close are a tie");
