@@ -14,7 +14,7 @@ namespace asynevo::backend {
 
 namespace {
 
-/// Parameters x = (φ, ρ); five tangent directions (φ, two across ρ).
+/// Parameters x = (φ, ρ), retracted by small_lm::retractRateAndDirection.
 Eigen::VectorXd pack(const ConstantTwist& w) {
   Eigen::VectorXd x(6);
   x << w.phi, w.rho.normalized();
@@ -23,13 +23,6 @@ Eigen::VectorXd pack(const ConstantTwist& w) {
 
 ConstantTwist unpack(const Eigen::VectorXd& x) { return {x.head<3>(), x.tail<3>().normalized()}; }
 
-Eigen::VectorXd retract(const Eigen::VectorXd& x, const Eigen::VectorXd& delta) {
-  const lie::Vec3 rho = x.tail<3>().normalized();
-  const lie::Vec3 helper = std::abs(rho.x()) < 0.9 ? lie::Vec3::UnitX() : lie::Vec3::UnitY();
-  const lie::Vec3 e1 = rho.cross(helper).normalized();
-  const lie::Vec3 e2 = rho.cross(e1);
-  return pack({x.head<3>() + delta.head<3>(), rho + delta(3) * e1 + delta(4) * e2});
-}
 
 /// The two residuals of one correspondence (chiralResiduals).
 void pairResiduals(const TwoViewMotion& m, const lie::Vec3& a, const lie::Vec3& b, double focal, double* r_a,
@@ -75,7 +68,7 @@ Minimum refine(const ConstantTwist& seed, const std::vector<BearingPair>& pairs,
   Eigen::VectorXd x = pack(seed);
   const auto residuals = [&](const Eigen::VectorXd& p) { return residualVector(unpack(p), pairs, focal); };
   Minimum m;
-  m.ok = small_lm::minimize(&x, 5, residuals, retract, cauchy_px, 50);
+  m.ok = small_lm::minimize(&x, 5, residuals, small_lm::retractRateAndDirection, cauchy_px, 50);
   m.twist = unpack(x);
   m.cost = chiralCost(m.twist, pairs, focal, cauchy_px);
   m.ok = m.ok && std::isfinite(m.cost) && x.allFinite();

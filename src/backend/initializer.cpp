@@ -96,18 +96,13 @@ PoseFromE poseFromEssential(const cv::Mat& E, const Correspondences& c, const cv
   return best;
 }
 
-/// The correspondences a motion explains: the Sampson distance of chiralResiduals within `ransac_px`, not
+/// The correspondences (bearings a, b) a motion explains: the Sampson distance of chiralResiduals within `ransac_px`, not
 /// behind a camera (far points, below `min_angle` of parallax, count whatever their depth sign).
-PoseFromE poseFromMotion(const TwoViewMotion& m, const Correspondences& c, double focal, double ransac_px,
-                         double min_angle) {
-  std::vector<lie::Vec3> a, b;
-  for (std::size_t i = 0; i < c.a.size(); ++i) {
-    a.push_back(ray(c.a[i]));
-    b.push_back(ray(c.b[i]));
-  }
+PoseFromE poseFromMotion(const TwoViewMotion& m, const std::vector<lie::Vec3>& a, const std::vector<lie::Vec3>& b,
+                         double focal, double ransac_px, double min_angle) {
   const std::vector<double> r = chiralResiduals(m, a, b, focal);
-  PoseFromE pose{m.R_b_a, m.t_b_a, cv::Mat::zeros(static_cast<int>(c.a.size()), 1, CV_8U), 0};
-  for (std::size_t i = 0; i < c.a.size(); ++i) {
+  PoseFromE pose{m.R_b_a, m.t_b_a, cv::Mat::zeros(static_cast<int>(a.size()), 1, CV_8U), 0};
+  for (std::size_t i = 0; i < a.size(); ++i) {
     // The Sampson distance, as the RANSAC of findEssentialMat measures it: 1/d² = 1/d_a² + 1/d_b².
     const double d_a = r[2 * i], d_b = r[2 * i + 1];
     if (d_a * d_a * d_b * d_b > ransac_px * ransac_px * (d_a * d_a + d_b * d_b)) continue;
@@ -203,7 +198,7 @@ InitResult initializeTwoViewSpan(const TrackMap& tracks, int64_t t_a, int64_t t_
                        span, config, &r);
     if (decision == "tie") return r;
     if (decision == "reversed") {
-      pose = poseFromMotion(*reversal.reversed, c, focal, config.init_ransac_px, min_angle);
+      pose = poseFromMotion(*reversal.reversed, a, b, focal, config.init_ransac_px, min_angle);
       r.depth_reversed = true;
       if (pose.count < config.init_min_inliers) {
         r.rejection = InitRejection::Inliers;

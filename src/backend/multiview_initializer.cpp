@@ -118,22 +118,13 @@ lie::Vec3 translationGivenRotation(const lie::Vec3& phi, const std::vector<Pair>
   return eigen.eigenvectors().col(0).normalized();
 }
 
-/// Parameters (φ, ρ) with ρ moved on the unit sphere along two tangent directions.
+/// Parameters (φ, ρ), retracted by small_lm::retractRateAndDirection.
 Eigen::VectorXd pack(const Twist& w) {
   Eigen::VectorXd x(6);
   x << w.phi, w.rho;
   return x;
 }
 Twist unpack(const Eigen::VectorXd& x) { return Twist{x.head<3>(), x.tail<3>().normalized()}; }
-Eigen::VectorXd retractTwist(const Eigen::VectorXd& x, const Eigen::VectorXd& d) {
-  const lie::Vec3 rho = x.tail<3>().normalized();
-  const lie::Vec3 helper = std::abs(rho.x()) < 0.9 ? lie::Vec3::UnitX() : lie::Vec3::UnitY();
-  const lie::Vec3 u = rho.cross(helper).normalized();
-  const lie::Vec3 v = rho.cross(u);
-  Eigen::VectorXd y(6);
-  y << x.head<3>() + d.head<3>(), (rho + d(3) * u + d(4) * v).normalized();
-  return y;
-}
 
 Eigen::VectorXd epipolarResiduals(const Twist& w, const std::vector<Pair>& pairs) {
   Eigen::VectorXd r(pairs.size());
@@ -146,7 +137,7 @@ Twist refine(const lie::Vec3& phi_seed, const std::vector<Pair>& pairs, double c
   Twist w{phi_seed, translationGivenRotation(phi_seed, pairs)};
   Eigen::VectorXd x = pack(w);
   const auto residuals = [&](const Eigen::VectorXd& v) { return epipolarResiduals(unpack(v), pairs); };
-  if (!minimize(&x, 5, residuals, retractTwist, c, 50)) {
+  if (!minimize(&x, 5, residuals, small_lm::retractRateAndDirection, c, 50)) {
     *cost = std::numeric_limits<double>::infinity();
     return w;
   }

@@ -16,6 +16,18 @@ inline double cauchyCost(const Eigen::VectorXd& r, double c) {
   return (c * c * (r.array() / c).square().log1p()).sum();
 }
 
+/// The retraction of a rotation rate and a translation direction, x = (φ, ρ) with |ρ| = 1, over five
+/// tangent directions: φ moves freely, ρ on the unit sphere along two directions orthogonal to it.
+inline Eigen::VectorXd retractRateAndDirection(const Eigen::VectorXd& x, const Eigen::VectorXd& d) {
+  const Eigen::Vector3d rho = x.tail<3>().normalized();
+  const Eigen::Vector3d helper = std::abs(rho.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d u = rho.cross(helper).normalized();
+  const Eigen::Vector3d v = rho.cross(u);
+  Eigen::VectorXd y(6);
+  y << x.head<3>() + d.head<3>(), (rho + d(3) * u + d(4) * v).normalized();
+  return y;
+}
+
 using Residuals = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
 using Retraction = std::function<Eigen::VectorXd(const Eigen::VectorXd&, const Eigen::VectorXd&)>;
 
