@@ -22,7 +22,7 @@ import sys
 
 HALVES = (("tune", "tuning"), ("val", "validation"))
 # Bins of cost / reversed_cost: above 1 the alternative is cheaper.
-BINS = ((0.0, 0.8), (0.8, 1.0), (1.0, 1.25), (1.25, math.inf))
+BINS = ((0.0, 0.8), (0.8, 1.0), (1.0, 1.25), (1.25, 1.5), (1.5, 2.0), (2.0, math.inf))
 
 
 def rotation(qx, qy, qz, qw):
@@ -84,13 +84,13 @@ def angle_deg(u, v):
     return math.degrees(math.acos(c))
 
 
-# init_reversals.txt: t_a_s t_b_s method features cost reversed_cost tx ty tz rx ry rz decision
-CHECK_FIELDS = ["number", "number", "text", "number", "number", "number"] + ["number"] * 6 + ["text"]
+# init_reversals.txt: t_a_s t_b_s method features parallax_px cost reversed_cost tx ty tz rx ry rz decision
+CHECK_FIELDS = ["number", "number", "text"] + ["number"] * 10 + ["text"]
 
 
 def read_checks(path):
     """The comparisons of one init_reversals file: (t_a, t_b, method, cost, reversed_cost, t, reversed_t)."""
-    return [(v[0], v[1], v[2], v[4], v[5], v[6:9], v[9:12]) for v in data_lines(path, CHECK_FIELDS)]
+    return [(v[0], v[1], v[2], v[5], v[6], v[7:10], v[10:13]) for v in data_lines(path, CHECK_FIELDS)]
 
 
 def log_of(run_dir):
@@ -131,7 +131,7 @@ def collect(runs_dirs, sequences):
 def table(samples):
     lines = []
     for _, half in HALVES + (("", None),):
-        for method in ("two-view", "multi-view"):
+        for method in ("two-view", "multi-view", "audit"):
             rows = [s for s in samples if s[0] == half and s[1] == method]
             if not rows:
                 continue

@@ -13,6 +13,7 @@ const char* segmentEndName(SegmentEnd end) {
     case SegmentEnd::kResidual: return "residual";
     case SegmentEnd::kDepth: return "depth";
     case SegmentEnd::kNonFinite: return "non_finite";
+    case SegmentEnd::kReversal: return "reversal";
     case SegmentEnd::kEndOfStream: return "end_of_stream";
   }
   return "unknown";

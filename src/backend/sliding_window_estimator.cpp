@@ -20,6 +20,7 @@
 #include "asynevo/backend/factors/se3_manifold.hpp"
 #include "asynevo/backend/factors/state_prior_factor.hpp"
 #include "asynevo/backend/factors/wnoa_prior_factor.hpp"
+#include "asynevo/backend/direction_audit.hpp"
 #include "asynevo/backend/initializer.hpp"
 #include "asynevo/backend/multiview_initializer.hpp"
 #include "asynevo/backend/start_trajectory.hpp"
@@ -430,6 +431,7 @@ void SlidingWindowEstimator::update(int64_t t_ns) {
   ++stats_.updates;
   stats_.max_window_knots = std::max(stats_.max_window_knots, record.window_knots);
   checkTracking(t_ns, record.landmarks);
+  auditDirection(t_ns);
   if (tracking_ && options_.config.loss_write_accepted_window) {
     accepted_window_.clear();
     for (const auto& [t, knot] : trajectory_.knots()) accepted_window_.push_back(knot);
@@ -478,6 +480,33 @@ void SlidingWindowEstimator::checkTracking(int64_t t_ns, int landmarks) {
   }
 }
 
+void SlidingWindowEstimator::auditDirection(int64_t t_ns) {
+  const BackendConfig& c = options_.config;
+  if (c.direction_audit == "off" || !tracking_ || trajectory_.empty()) return;
+  if (durationSeconds(stats_.segments.back().initialized_at_ns, t_ns) * 1e3 > c.direction_audit_ms) return;
+  // The second time lags the newest knot by one interval, as a start's does: most features' newest
+  // measurements are a little older than the newest event.
+  const int64_t t_b = trajectory_.newestTime() - knot_dt_ns_;
+  const int64_t t_a = t_b - secondsToNs(c.direction_audit_span_ms * 1e-3);
+  // As many trajectories as a once-relaxed start needs: fewer hold too little evidence to end a segment.
+  const int min_features = static_cast<int>(std::ceil(c.init_min_features * c.init_relaxed_fraction));
+  std::optional<ReversalCheck> check = backend::auditDirection(trajectory_, tracks_, t_a, t_b, options_.focal_px,
+                                                              c.init_ransac_px, c.direction_audit_parallax_px,
+                                                              min_features);
+  if (!check) return;
+  ++stats_.direction_audits;
+  const bool against = check->found && check->reversed_cost < (1.0 - c.direction_audit_margin) * check->cost;
+  audit_votes_ = against ? audit_votes_ + 1 : 0;
+  stats_.direction_audit_votes += against;
+  if (against) check->decision = audit_votes_ >= c.direction_audit_votes && c.direction_audit == "restart"
+                                     ? "restart" : "against";
+  if (stats_.init_reversal_log.size() < kMaxInitAttemptsLogged) stats_.init_reversal_log.push_back(*check);
+  if (std::string_view(check->decision) == "restart") {
+    // The segment's knots are written as estimated (its end says why); the start begins again.
+    loseTracking(SegmentEnd::kReversal, t_ns, trajectory_.newestTime(), t_ns);
+  }
+}
+
 void SlidingWindowEstimator::loseTrackingAtFailedSolve(SegmentEnd reason, int64_t t_ns) {
   constexpr int64_t kNone = std::numeric_limits<int64_t>::min();
   // accepted_window_ is kept only with loss_write_accepted_window. Knots marginalized since the accepted
@@ -519,6 +548,7 @@ void SlidingWindowEstimator::loseTracking(SegmentEnd reason, int64_t t_ns, int64
   anchors_.clear();
   tracking_ = false;
   segment_depth_ = 0;
+  audit_votes_ = 0;
   restartInitialization(reset_ns);
 }
 

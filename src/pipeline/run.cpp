@@ -433,6 +433,8 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("init_two_view_landmark_starts", e.init_two_view_landmark_starts)
       .add("init_weak_two_view_replaced", e.init_weak_two_view_replaced)
       .add("init_depth_reversed", e.init_depth_reversed)
+      .add("direction_audits", e.direction_audits)
+      .add("direction_audit_votes", e.direction_audit_votes)
       .add("init_relaxed_again", e.init_relaxed_again)
       .add("init_restarts_relaxed", e.init_restarts_relaxed)
       .add("init_span_ms", e.init_views.span_ms)

@@ -14,24 +14,29 @@
 #    that fits its 16 features within 13 % (a tie, init_reversal_margin 0.2), and so has the multi-view
 #    fit; the attempt waits (a 'reversal' rejection), and the start comes two attempts later from a
 #    two-view pose whose alternative fits far worse; from 0.6 s the estimate travels forward.
+#  - with direction_audit restart (the default; the rules above are replayed with it off): the recorded start is built on, the audits of its young
+#    segment find the depth-reversed motion of the window cheaper (two votes in a row by 0.82 s), the
+#    segment ends as a 'reversal', and the estimator starts again; the new segment travels forward.
 #   weak_two_view_start.sh ASYNEVO BENCH_REPLAY_TRACKS DATA_DIR WORK_DIR
 set -eu
 asynevo=$1; replay=$2; data=$3; work=$4
 rm -rf "$work"
 mkdir -p "$work"
 fail() { echo "FAIL: $*" >&2; exit 1; }
-reversed_percent() {  # the evaluation's share of knots from 0.6 s on travelling in reverse, in %
-  awk '/^#/ || $1 >= 0.6' "$1" > "$1.late"
-  awk '/^#/ || $1 >= 0.6' "$1.velocities.txt" > "$1.late.velocities.txt"
+reversed_percent() {  # the evaluation's share of knots from ${3:-0.6} s on travelling in reverse, in %
+  awk -v from="${3:-0.6}" '/^#/ || $1 >= from' "$1" > "$1.late"
+  awk -v from="${3:-0.6}" '/^#/ || $1 >= from' "$1.velocities.txt" > "$1.late.velocities.txt"
   "$asynevo" eval --gt "$data/sequence/groundtruth.txt" --est "$1.late" --velocities "$1.late.velocities.txt" \
       --segments none --out "$2" > "$2.log" 2>&1 || fail "asynevo eval of $1: $(tail -1 "$2.log")"
   sed -n 's/.*in reverse (> 90 deg) \([0-9.]*\) % of.*/\1/p' "$2.log"
 }
-for rule in keep compare confirm reversal; do
+for rule in keep compare confirm reversal audit; do
   mkdir -p "$work/$rule/run" "$work/$rule/eval"
   cp "$data/run/tracks.txt" "$data/run/backend_feed.txt" "$work/$rule/run/"
-  setting="init_weak_two_view: $rule"
-  [ "$rule" = reversal ] && setting="init_depth_reversal: wait"
+  # The rules of the start are measured without the direction audit; the audit with the defaults.
+  setting="init_weak_two_view: $rule\n  direction_audit: off"
+  [ "$rule" = reversal ] && setting="init_depth_reversal: wait\n  direction_audit: off"
+  [ "$rule" = audit ] && setting="direction_audit: restart"
   sed "s/^backend:\$/backend:\n  $setting/" "$data/run/config.yaml" > "$work/$rule/run/config.yaml"
   "$replay" "$work/$rule/run" "$data/sequence" "$work/$rule/traj.txt" > "$work/$rule/replay.log" 2>&1 ||
     fail "the replay with $rule: $(tail -1 "$work/$rule/replay.log")"
@@ -60,5 +65,17 @@ echo "travelling in reverse from 0.6 s on with init_depth_reversal wait: $revers
 grep -q "the depth-reversed motion fits 16 features within" "$work/reversal/replay.log" ||
   fail "with init_depth_reversal wait no attempt says that it waited for a tie of the depth-reversed motion"
 awk -v r="$reversal_rev" 'BEGIN { exit !(r < 5) }' || fail "with init_depth_reversal wait the estimate still travels in reverse"
+audit_start=$(grep "^initial views" "$work/audit/replay.log")
+[ "$audit_start" = "$keep_start" ] || fail "with direction_audit restart the start differs from the recorded one: $audit_start"
+segments="$work/audit/traj.txt.segments.txt"
+first_end=$(awk '!/^#/ && $1 == 0 { print $5 }' "$segments")
+second_start=$(awk '!/^#/ && $1 == 1 { print $2 }' "$segments")
+[ "$first_end" = reversal ] || fail "with direction_audit restart the reversed segment did not end as a reversal: $(cat "$segments")"
+[ -n "$second_start" ] || fail "with direction_audit restart the estimator did not start again: $(cat "$segments")"
+grep -q " audit .* restart\$" "$work/audit/traj.txt.init_reversals.txt" || fail "no audit logged its restart"
+audit_rev=$(reversed_percent "$work/audit/traj.txt" "$work/audit/eval" "$second_start")
+echo "direction_audit restart: the first segment ended as a reversal; travelling in reverse from the second (at $second_start s): $audit_rev %"
+awk -v r="$audit_rev" 'BEGIN { exit !(r < 5) }' || fail "with direction_audit restart the second segment still travels in reverse"
 echo "a weak two-view start that travels backwards waits for the multi-view fit with confirm, and for a"
-echo "later two-view pose when its depth-reversed alternative fits as well"
+echo "later two-view pose when its depth-reversed alternative fits as well; the direction audit ends the"
+echo "reversed segment it built and starts again"

@@ -69,6 +69,9 @@ struct EstimatorStats {
   uint64_t init_weak_two_view_replaced = 0;
   /// Two-view starts built on the depth-reversed alternative of their five-point pose (init_depth_reversal).
   uint64_t init_depth_reversed = 0;
+  /// Direction audits of young segments (direction_audit), and those that voted against the segment.
+  uint64_t direction_audits = 0;
+  uint64_t direction_audit_votes = 0;
   /// Times the counts were relaxed a second time (init_relax_again_after_ms; granted only where the
   /// once-relaxed attempts failed mostly for lack of features), over the first start and every restart.
   uint64_t init_relaxed_again = 0;

@@ -30,7 +30,11 @@ struct ReversalCheck {
   bool found = false;        ///< an alternative was found
   lie::Vec3 t_b_a = lie::Vec3::Zero();           ///< the motion's translation direction over t_a .. t_b
   lie::Vec3 reversed_t_b_a = lie::Vec3::Zero();  ///< the alternative's
-  const char* decision = "kept";                 ///< "kept", "reversed" or "tie" (the span waited)
+  /// a start: "kept", "reversed" or "tie" (the span waited); an audit: "kept", "against" or "restart"
+  const char* decision = "kept";
+  /// The audit's median parallax once the window's rotation is removed, in pixels (0 for a start's
+  /// comparison).
+  double parallax_px = 0;
 };
 
 struct InitResult {

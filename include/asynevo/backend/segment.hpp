@@ -16,11 +16,12 @@ enum class SegmentEnd {
   kResidual,     ///< median reprojection error of the window above loss_max_median_px after a solve
   kDepth,        ///< median landmark depth changed by more than loss_depth_ratio since the start (scale collapse)
   kNonFinite,    ///< a state of the window became NaN or infinite
+  kReversal,     ///< the direction audit found the depth-reversed motion fits better (direction_audit: restart)
   kEndOfStream,  ///< the stream ended while tracking
 };
-constexpr int kSegmentEndCount = 6;
+constexpr int kSegmentEndCount = 7;
 
-/// "event_gap", "unsupported", "residual", "depth", "non_finite", "end_of_stream".
+/// "event_gap", "unsupported", "residual", "depth", "non_finite", "reversal", "end_of_stream".
 const char* segmentEndName(SegmentEnd end);
 
 struct Segment {

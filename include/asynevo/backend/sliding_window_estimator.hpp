@@ -146,6 +146,9 @@ class SlidingWindowEstimator : public Estimator {
   double medianLandmarkDepth(const lie::SE3& T_c_w, std::size_t min_count) const;
   /// After an update: ends the segment when tracking is lost (docs/method/tracking_loss.md).
   void checkTracking(int64_t t_ns, int landmarks);
+  /// direction_audit: compares the window's motion with its depth-reversed alternative (young segments
+  /// only) and, with "restart", ends the segment after direction_audit_votes votes against it.
+  void auditDirection(int64_t t_ns);
   /// Ends the open segment for `reason` at event time t_ns: the window's finite knots up to
   /// keep_until_ns are written, the rest dropped; the map is cleared and initialization starts again
   /// with measurements from reset_ns on.
@@ -201,6 +204,7 @@ class SlidingWindowEstimator : public Estimator {
   int64_t reset_ns_ = std::numeric_limits<int64_t>::min();  ///< measurements before it are dropped
   int64_t last_supported_ns_ = 0;   ///< newest knot time with at least loss_min_landmarks landmarks
   double segment_depth_ = 0;        ///< median landmark depth at the segment's start (0: not yet known)
+  int audit_votes_ = 0;             ///< consecutive direction audits of this segment against it
   double last_median_residual_px_ = 0;  ///< of the window's measurements after the latest solve
   std::optional<int64_t> last_init_attempt_ns_;
   /// Rejections of the once-relaxed attempts: for lack of features, and for any other reason.

@@ -132,6 +132,14 @@ void BackendConfig::validate() const {
                                   init_depth_reversal));
   requireRange("backend.init_reversal_margin", init_reversal_margin, 0.0, 1.0);
   requireRange("backend.loss_max_event_gap_ms", loss_max_event_gap_ms, 0.0, 1e9);
+  if (direction_audit != "off" && direction_audit != "log" && direction_audit != "restart")
+    throw ConfigError(fmt::format("configuration value backend.direction_audit = '{}' is not one of off, log, restart",
+                                  direction_audit));
+  requireRange("backend.direction_audit_ms", direction_audit_ms, 0.0, 1e9);
+  requireRange("backend.direction_audit_span_ms", direction_audit_span_ms, knot_dt_ms, 1e9);
+  requireRange("backend.direction_audit_margin", direction_audit_margin, 0.0, 1.0);
+  requireRange("backend.direction_audit_votes", direction_audit_votes, 1, 1000);
+  requireRange("backend.direction_audit_parallax_px", direction_audit_parallax_px, 0.0, 1e6);
   if (loss_max_event_gap_ms > 0 && loss_max_event_gap_ms < knot_dt_ms)
     throw ConfigError(fmt::format("configuration value backend.loss_max_event_gap_ms = {} must be 0 (off) or at "
                                   "least backend.knot_dt_ms = {}",

@@ -148,6 +148,20 @@ struct BackendConfig {
   /// At a residual, depth or non-finite loss, write the window's knots as the last update that passed
   /// every test left them (the failed solve's knots are dropped either way).
   bool loss_write_accepted_window = true;
+  /// The direction audit (docs/method/depth_reversal.md, "Auditing a young segment"): for
+  /// direction_audit_ms after each start, every update compares the window's motion over the newest
+  /// direction_audit_span_ms with its depth-reversed alternative. "off"; "log" records each comparison
+  /// (init_reversals.txt, method audit); "restart" also ends the segment (a 'reversal' end) when the
+  /// alternative's cost is below (1 − direction_audit_margin) times the motion's in
+  /// direction_audit_votes consecutive audits.
+  std::string direction_audit = "restart";
+  double direction_audit_ms = 1000.0;
+  double direction_audit_span_ms = 200.0;
+  double direction_audit_margin = 0.33;
+  int direction_audit_votes = 2;
+  /// An audit needs this median parallax once the window's rotation is removed (a rotation leaves the
+  /// direction of travel unobserved).
+  double direction_audit_parallax_px = 3.0;
 
   template <class V>
   void visit(V& v) {
@@ -241,6 +255,18 @@ struct BackendConfig {
     v("loss_write_accepted_window", loss_write_accepted_window,
       "tracking loss: at a residual, depth or non-finite loss, write the window's knots of the last update that "
       "passed every test");
+    v("direction_audit", direction_audit,
+      "tracking loss: after a start, compare the window's motion with its depth-reversed alternative: off, log, or "
+      "restart (end the segment when the alternative fits better by the margin, votes times in a row)");
+    v("direction_audit_ms", direction_audit_ms, "tracking loss: how long after a start the direction is audited [ms]");
+    v("direction_audit_span_ms", direction_audit_span_ms,
+      "tracking loss: the span of the window's motion each audit compares [ms]");
+    v("direction_audit_margin", direction_audit_margin,
+      "tracking loss: an audit votes against the segment when the alternative's cost is lower by this fraction");
+    v("direction_audit_votes", direction_audit_votes,
+      "tracking loss: consecutive votes against the segment that end it (direction_audit: restart)");
+    v("direction_audit_parallax_px", direction_audit_parallax_px,
+      "tracking loss: an audit needs this median parallax once the window's rotation is removed [px]");
   }
   void validate() const;
 };
