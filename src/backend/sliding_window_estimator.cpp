@@ -208,6 +208,8 @@ BackendConfig SlidingWindowEstimator::initConfig(int64_t t_ns) const {
   const double fraction = std::pow(config.init_relaxed_fraction, relaxations(t_ns));
   config.init_min_features = static_cast<int>(std::ceil(config.init_min_features * fraction));
   config.init_min_inliers = static_cast<int>(std::ceil(config.init_min_inliers * fraction));
+  if (after_reversal_ && config.direction_audit_restart_rule != "same")
+    config.init_depth_reversal = config.direction_audit_restart_rule;
   return config;
 }
 
@@ -342,6 +344,7 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   }
   previous_start_motion_.reset();
   tracking_ = true;
+  after_reversal_ = false;
   Segment segment;
   segment.initialized_at_ns = t_ns;
   stats_.segments.push_back(segment);
@@ -549,6 +552,7 @@ void SlidingWindowEstimator::loseTracking(SegmentEnd reason, int64_t t_ns, int64
   tracking_ = false;
   segment_depth_ = 0;
   audit_votes_ = 0;
+  after_reversal_ = reason == SegmentEnd::kReversal;
   restartInitialization(reset_ns);
 }
 

@@ -139,6 +139,37 @@ TEST(Config, TheDepthReversalRuleAndItsMarginAreCheckedWithTheirKeys) {
   EXPECT_NE(error("backend:\n  init_reversal_margin: 1.5\n").find("backend.init_reversal_margin"), std::string::npos);
 }
 
+TEST(Config, TheDirectionAuditKeysAreCheckedWithTheirNames) {
+  for (const char* mode : {"off", "log", "restart"}) {
+    Config config;
+    applyConfigYaml(std::string("backend:\n  direction_audit: ") + mode + "\n", "x.yaml", config);
+    EXPECT_EQ(config.backend.direction_audit, mode);
+  }
+  const auto error = [](const std::string& yaml) {
+    Config config;
+    try {
+      applyConfigYaml(yaml, "x.yaml", config);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(error("backend:\n  direction_audit: always\n").find("backend.direction_audit = 'always'"),
+            std::string::npos);
+  EXPECT_NE(error("backend:\n  direction_audit_restart_rule: never\n")
+                .find("backend.direction_audit_restart_rule = 'never'"),
+            std::string::npos);
+  // The span must hold a knot interval; margin in [0, 1]; at least one vote.
+  EXPECT_NE(error("backend:\n  direction_audit_span_ms: 10\n").find("backend.direction_audit_span_ms"),
+            std::string::npos);
+  EXPECT_NE(error("backend:\n  direction_audit_margin: 1.5\n").find("backend.direction_audit_margin"),
+            std::string::npos);
+  EXPECT_NE(error("backend:\n  direction_audit_votes: 0\n").find("backend.direction_audit_votes"), std::string::npos);
+  EXPECT_NE(error("backend:\n  direction_audit_parallax_px: -1\n").find("backend.direction_audit_parallax_px"),
+            std::string::npos);
+  EXPECT_EQ(error("backend:\n  direction_audit_restart_rule: same\n"), "accepted");
+}
+
 TEST(Config, AFeatureBudgetLargerThanTheSensorHoldsIsRejectedWithItsKeys) {
   Config config;  // 240x180, border 16 px, features 15 px apart: 208 x 148 px hold 158 hexagonally
   config.validateForSensor();

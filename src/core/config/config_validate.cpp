@@ -140,6 +140,12 @@ void BackendConfig::validate() const {
   requireRange("backend.direction_audit_margin", direction_audit_margin, 0.0, 1.0);
   requireRange("backend.direction_audit_votes", direction_audit_votes, 1, 1000);
   requireRange("backend.direction_audit_parallax_px", direction_audit_parallax_px, 0.0, 1e6);
+  if (direction_audit_restart_rule != "same" && direction_audit_restart_rule != "off" &&
+      direction_audit_restart_rule != "best" && direction_audit_restart_rule != "wait" &&
+      direction_audit_restart_rule != "strict")
+    throw ConfigError(fmt::format(
+        "configuration value backend.direction_audit_restart_rule = '{}' is not one of same, off, best, wait, strict",
+        direction_audit_restart_rule));
   if (loss_max_event_gap_ms > 0 && loss_max_event_gap_ms < knot_dt_ms)
     throw ConfigError(fmt::format("configuration value backend.loss_max_event_gap_ms = {} must be 0 (off) or at "
                                   "least backend.knot_dt_ms = {}",

@@ -162,6 +162,9 @@ struct BackendConfig {
   /// An audit needs this median parallax once the window's rotation is removed (a rotation leaves the
   /// direction of travel unobserved).
   double direction_audit_parallax_px = 3.0;
+  /// The init_depth_reversal rule of the start that follows a 'reversal' end: "same" (init_depth_reversal
+  /// as set), or off, best, wait, strict for that start alone.
+  std::string direction_audit_restart_rule = "strict";
 
   template <class V>
   void visit(V& v) {
@@ -267,6 +270,9 @@ struct BackendConfig {
       "tracking loss: consecutive votes against the segment that end it (direction_audit: restart)");
     v("direction_audit_parallax_px", direction_audit_parallax_px,
       "tracking loss: an audit needs this median parallax once the window's rotation is removed [px]");
+    v("direction_audit_restart_rule", direction_audit_restart_rule,
+      "tracking loss: the init_depth_reversal rule of the start after a reversal: same (as set), off, best, wait or "
+      "strict");
   }
   void validate() const;
 };
