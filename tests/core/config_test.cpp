@@ -119,24 +119,26 @@ TEST(Config, AnUnknownRuleForWeakTwoViewStartsIsRejectedWithItsKey) {
   }
 }
 
+/// The ConfigError message of applying `yaml` to the defaults, or "accepted".
+std::string yamlError(const std::string& yaml) {
+  Config config;
+  try {
+    applyConfigYaml(yaml, "x.yaml", config);
+  } catch (const ConfigError& e) {
+    return std::string(e.what());
+  }
+  return std::string("accepted");
+}
+
 TEST(Config, TheDepthReversalRuleAndItsMarginAreCheckedWithTheirKeys) {
   for (const char* rule : {"off", "best", "wait"}) {
     Config config;
     applyConfigYaml(std::string("backend:\n  init_depth_reversal: ") + rule + "\n", "x.yaml", config);
     EXPECT_EQ(config.backend.init_depth_reversal, rule);
   }
-  const auto error = [](const std::string& yaml) {
-    Config config;
-    try {
-      applyConfigYaml(yaml, "x.yaml", config);
-    } catch (const ConfigError& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
-  EXPECT_NE(error("backend:\n  init_depth_reversal: always\n").find("backend.init_depth_reversal = 'always'"),
+  EXPECT_NE(yamlError("backend:\n  init_depth_reversal: always\n").find("backend.init_depth_reversal = 'always'"),
             std::string::npos);
-  EXPECT_NE(error("backend:\n  init_reversal_margin: 1.5\n").find("backend.init_reversal_margin"), std::string::npos);
+  EXPECT_NE(yamlError("backend:\n  init_reversal_margin: 1.5\n").find("backend.init_reversal_margin"), std::string::npos);
 }
 
 TEST(Config, TheDirectionAuditKeysAreCheckedWithTheirNames) {
@@ -145,29 +147,20 @@ TEST(Config, TheDirectionAuditKeysAreCheckedWithTheirNames) {
     applyConfigYaml(std::string("backend:\n  direction_audit: ") + mode + "\n", "x.yaml", config);
     EXPECT_EQ(config.backend.direction_audit, mode);
   }
-  const auto error = [](const std::string& yaml) {
-    Config config;
-    try {
-      applyConfigYaml(yaml, "x.yaml", config);
-    } catch (const ConfigError& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
-  EXPECT_NE(error("backend:\n  direction_audit: always\n").find("backend.direction_audit = 'always'"),
+  EXPECT_NE(yamlError("backend:\n  direction_audit: always\n").find("backend.direction_audit = 'always'"),
             std::string::npos);
-  EXPECT_NE(error("backend:\n  direction_audit_restart_rule: never\n")
+  EXPECT_NE(yamlError("backend:\n  direction_audit_restart_rule: never\n")
                 .find("backend.direction_audit_restart_rule = 'never'"),
             std::string::npos);
   // The span must hold a knot interval; margin in [0, 1]; at least one vote.
-  EXPECT_NE(error("backend:\n  direction_audit_span_ms: 10\n").find("backend.direction_audit_span_ms"),
+  EXPECT_NE(yamlError("backend:\n  direction_audit_span_ms: 10\n").find("backend.direction_audit_span_ms"),
             std::string::npos);
-  EXPECT_NE(error("backend:\n  direction_audit_margin: 1.5\n").find("backend.direction_audit_margin"),
+  EXPECT_NE(yamlError("backend:\n  direction_audit_margin: 1.5\n").find("backend.direction_audit_margin"),
             std::string::npos);
-  EXPECT_NE(error("backend:\n  direction_audit_votes: 0\n").find("backend.direction_audit_votes"), std::string::npos);
-  EXPECT_NE(error("backend:\n  direction_audit_parallax_px: -1\n").find("backend.direction_audit_parallax_px"),
+  EXPECT_NE(yamlError("backend:\n  direction_audit_votes: 0\n").find("backend.direction_audit_votes"), std::string::npos);
+  EXPECT_NE(yamlError("backend:\n  direction_audit_parallax_px: -1\n").find("backend.direction_audit_parallax_px"),
             std::string::npos);
-  EXPECT_EQ(error("backend:\n  direction_audit_restart_rule: same\n"), "accepted");
+  EXPECT_EQ(yamlError("backend:\n  direction_audit_restart_rule: same\n"), "accepted");
 }
 
 TEST(Config, AFeatureBudgetLargerThanTheSensorHoldsIsRejectedWithItsKeys) {
