@@ -16,8 +16,8 @@ std::optional<ReversalCheck> auditDirection(const Trajectory& window, const Trac
     const auto x_a = track.pointAt(t_a_ns);
     const auto x_b = x_a ? track.pointAt(t_b_ns) : std::nullopt;
     if (!x_b) continue;
-    a.push_back(lie::Vec3(x_a->x(), x_a->y(), 1.0).normalized());
-    b.push_back(lie::Vec3(x_b->x(), x_b->y(), 1.0).normalized());
+    a.push_back(view_geometry::ray(x_a->x(), x_a->y()));
+    b.push_back(view_geometry::ray(x_b->x(), x_b->y()));
   }
   if (static_cast<int>(a.size()) < std::max(min_features, 5)) return std::nullopt;
   // x_b = R_b_a x_a + t_b_a with T_b_a = T_w_b⁻¹ T_w_a.

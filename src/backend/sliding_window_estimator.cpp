@@ -208,7 +208,9 @@ BackendConfig SlidingWindowEstimator::initConfig(int64_t t_ns) const {
   const double fraction = std::pow(config.init_relaxed_fraction, relaxations(t_ns));
   config.init_min_features = static_cast<int>(std::ceil(config.init_min_features * fraction));
   config.init_min_inliers = static_cast<int>(std::ceil(config.init_min_inliers * fraction));
-  if (after_reversal_ && config.direction_audit_restart_rule != "same")
+  // The start after a segment that ended as a reversal (initConfig runs only while not tracking).
+  const bool after_reversal = !stats_.segments.empty() && stats_.segments.back().end == SegmentEnd::kReversal;
+  if (after_reversal && config.direction_audit_restart_rule != "same")
     config.init_depth_reversal = config.direction_audit_restart_rule;
   return config;
 }
@@ -344,7 +346,6 @@ void SlidingWindowEstimator::tryInitialize(int64_t t_ns) {
   }
   previous_start_motion_.reset();
   tracking_ = true;
-  after_reversal_ = false;
   Segment segment;
   segment.initialized_at_ns = t_ns;
   stats_.segments.push_back(segment);
@@ -552,7 +553,6 @@ void SlidingWindowEstimator::loseTracking(SegmentEnd reason, int64_t t_ns, int64
   tracking_ = false;
   segment_depth_ = 0;
   audit_votes_ = 0;
-  after_reversal_ = reason == SegmentEnd::kReversal;
   restartInitialization(reset_ns);
 }
 

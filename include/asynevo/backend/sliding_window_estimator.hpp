@@ -205,7 +205,6 @@ class SlidingWindowEstimator : public Estimator {
   int64_t last_supported_ns_ = 0;   ///< newest knot time with at least loss_min_landmarks landmarks
   double segment_depth_ = 0;        ///< median landmark depth at the segment's start (0: not yet known)
   int audit_votes_ = 0;             ///< consecutive direction audits of this segment against it
-  bool after_reversal_ = false;     ///< the previous segment ended as a reversal (until the next start)
   double last_median_residual_px_ = 0;  ///< of the window's measurements after the latest solve
   std::optional<int64_t> last_init_attempt_ns_;
   /// Rejections of the once-relaxed attempts: for lack of features, and for any other reason.
