@@ -114,8 +114,45 @@ def run_logged(cmd, log_path, timeout_s=None):
         return code, time.monotonic() - t0, f.read()
 
 
-def score(eval_json, stats, gt, est):
-    """The figures of one finished run (None where a figure does not exist)."""
+def skip_of(command):
+    """The --skip-ms of a recorded command line, in seconds (0 without one)."""
+    command = command or []
+    for flag, value in zip(command, command[1:]):
+        if flag == "--skip-ms":
+            return float(value) / 1000.0
+    return 0.0
+
+
+def first_track_time(tracks_path):
+    """Event time of the first measurement in a run's tracks.txt, or None without one."""
+    try:
+        with open(tracks_path) as f:
+            for line in f:
+                fields = line.split()
+                if fields and not fields[0].startswith("#"):
+                    return float(fields[1])
+    except (OSError, IndexError, ValueError):
+        return None
+    return None
+
+
+def data_start(rec, stats, run_dir, begin):
+    """Time after `begin` from which the run was given data: its first event (a full run's --skip-ms
+    cuts the events from the stream's first on; a replay has the recorded run's input), or, for a
+    replay with --skip-ms, its tracks' first measurement plus the skip (as bench_replay_tracks counts
+    it), whichever is later. 0 when nothing says."""
+    first_event = ((stats or {}).get("input") or {}).get("first_event_s")
+    start = first_event - begin if first_event is not None and begin is not None else 0.0
+    skip = skip_of(rec.get("command")) if rec.get("replay_of") else 0.0
+    first = first_track_time(os.path.join(run_dir, "tracks.txt")) if skip else None
+    if first is not None and begin is not None:
+        start = max(start, first - begin + skip)
+    return start
+
+
+def score(eval_json, stats, gt, est, data_start_s=0.0):
+    """The figures of one finished run (None where a figure does not exist). data_start_s: from when
+    after the ground truth's first pose the run was given data (a start offset; see data_start)."""
     s = {}
     inp = (stats or {}).get("input", {})
     est_ = (stats or {}).get("estimator", {})
@@ -129,6 +166,11 @@ def score(eval_json, stats, gt, est):
     onset = motion_onset(gt)
     s["motion_onset_s"] = onset - begin if onset is not None else None
     s["init_after_onset_s"] = (s["init_s"] - s["motion_onset_s"]) if s["init_s"] is not None and onset is not None else None
+    # A run given data only from a start offset on cannot start before it: its start delay counts from
+    # the later of the onset and the offset (the first textured motion the run sees).
+    s["data_start_s"] = data_start_s
+    s["init_after_data_s"] = (s["init_s"] - max(s["motion_onset_s"], data_start_s)
+                              if s["init_after_onset_s"] is not None else None)
     s["coverage"] = coverage(est[:, 0], begin, end) if s["span_s"] else 0.0
     # The same from the motion onset: a monocular start needs motion, so a still start bounds the above.
     moving = onset is not None and end is not None and end > onset
@@ -209,6 +251,26 @@ def run_full(args):
     return rec, read_json(os.path.join(args.run_dir, "stats.json"))
 
 
+def replay_stats(recorded, run_dir, out, wall):
+    """The stats a replay reports (its output `out` and its run_dir/segments.txt), with the recorded
+    run's input and frontend."""
+    segments = []
+    if os.path.isfile(os.path.join(run_dir, "segments.txt")):
+        with open(os.path.join(run_dir, "segments.txt")) as f:
+            segments = [dict(ended_by=ln.split()[4]) for ln in f if ln.strip() and not ln.startswith("#")]
+    m = re.search(r"initialized (true|false) at ([0-9.]+) s after ([0-9]+) attempt", out)
+    loss = re.search(r"largest window median residual ([0-9.]+) px, largest depth ratio ([0-9.]+)", out)
+    recorded_stats = read_json(os.path.join(recorded, "stats.json")) or {}
+    stats = dict(input=recorded_stats.get("input", {}), frontend=recorded_stats.get("frontend", {}),
+                 events=recorded_stats.get("events"), wall_time_s=wall,
+                 estimator=dict(initialized=bool(m and m.group(1) == "true"),
+                                initialized_at_s=float(m.group(2)) if m else 0.0,
+                                init_attempts=int(m.group(3)) if m else None, segments=segments,
+                                max_median_residual_px=float(loss.group(1)) if loss else None,
+                                max_depth_ratio=float(loss.group(2)) if loss else None))  # fmt: skip
+    return stats
+
+
 def run_replay(args):
     """The backend alone on the tracks another setting's run recorded (its frontend configuration, the
     backend section of --config): (record, stats as far as the replay reports them)."""
@@ -233,25 +295,16 @@ def run_replay(args):
     cmd = [args.replay_bin, args.run_dir, args.dataset, est]
     if args.replay_skip_ms:
         cmd += ["--skip-ms", "%g" % args.replay_skip_ms]
+    stale = os.path.join(args.run_dir, "segments.txt")  # an earlier replay's, read by replay_stats
+    if os.path.lexists(stale):
+        os.remove(stale)
     code, wall, out = run_logged(cmd, os.path.join(args.run_dir, "replay.log"), args.timeout)
     rec = dict(command=cmd, exit_code=code, process_wall_s=round(wall, 2), replay_of=recorded)
     if os.path.isfile(est + ".velocities.txt"):
         os.replace(est + ".velocities.txt", os.path.join(args.run_dir, "velocities.txt"))
-    segments = []
     if os.path.isfile(est + ".segments.txt"):
         os.replace(est + ".segments.txt", os.path.join(args.run_dir, "segments.txt"))
-        with open(os.path.join(args.run_dir, "segments.txt")) as f:
-            segments = [dict(ended_by=ln.split()[4]) for ln in f if ln.strip() and not ln.startswith("#")]
-    m = re.search(r"initialized (true|false) at ([0-9.]+) s after ([0-9]+) attempt", out)
-    loss = re.search(r"largest window median residual ([0-9.]+) px, largest depth ratio ([0-9.]+)", out)
-    recorded_stats = read_json(os.path.join(recorded, "stats.json")) or {}
-    stats = dict(input=recorded_stats.get("input", {}), frontend=recorded_stats.get("frontend", {}),
-                 events=recorded_stats.get("events"), wall_time_s=wall,
-                 estimator=dict(initialized=bool(m and m.group(1) == "true"),
-                                initialized_at_s=float(m.group(2)) if m else 0.0,
-                                init_attempts=int(m.group(3)) if m else None, segments=segments,
-                                max_median_residual_px=float(loss.group(1)) if loss else None,
-                                max_depth_ratio=float(loss.group(2)) if loss else None))  # fmt: skip
+    stats = replay_stats(recorded, args.run_dir, out, wall)
     if code is None:
         rec.update(status="timeout", message="stopped after the time limit of %g s" % args.timeout)
     elif code != 0:
@@ -303,16 +356,21 @@ def main():
     os.makedirs(args.run_dir, exist_ok=True)
     if args.rescore:
         rec = read_json(args.score)
-        stats = read_json(os.path.join(args.run_dir, "stats.json"))
         if rec is None:
             p.error("--rescore: %s: no score to rescore" % args.score)
+        if rec.get("replay_of"):  # a replay keeps its figures in its log, not in a stats.json
+            with open(os.path.join(args.run_dir, "replay.log"), errors="replace") as f:
+                stats = replay_stats(rec["replay_of"], args.run_dir, f.read(), rec.get("process_wall_s"))
+        else:
+            stats = read_json(os.path.join(args.run_dir, "stats.json"))
     else:
         rec, stats = run_replay(args) if args.replay_of else run_full(args)
     rec["sequence"] = args.sequence or os.path.basename(os.path.normpath(args.dataset))
     eval_json = evaluate(args, rec) if rec["status"] == "ok" else None
     gt = load_poses(os.path.join(args.dataset, "groundtruth.txt"))
     est = load_poses(os.path.join(args.run_dir, "stamped_traj_estimate.txt"))
-    rec.update(score(eval_json, stats, gt, est))
+    begin = float(gt[0, 0]) if len(gt) else None
+    rec.update(score(eval_json, stats, gt, est, data_start(rec, stats, args.run_dir, begin)))
     tmp = args.score + ".tmp"
     with open(tmp, "w") as f:
         json.dump(rec, f, indent=1, sort_keys=True)

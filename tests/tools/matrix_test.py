@@ -137,6 +137,41 @@ def units():
           "coverage after the onset counts from the onset (%s)" % scored["coverage_after_onset"])  # fmt: skip
     check(matrix_run.score(None, {}, gt[:1000], est)["coverage_after_onset"] is None,
           "a still camera has no coverage after onset")  # fmt: skip
+    check(abs(scored["init_after_data_s"] - scored["init_after_onset_s"]) < 1e-12,
+          "without an offset the start delay counts from the onset")  # fmt: skip
+    late = matrix_run.score(None, dict(estimator=dict(initialized=True, initialized_at_s=1.9)), gt, est, 1.75)
+    check(abs(late["init_after_data_s"] - 0.15) < 1e-9 and abs(late["init_after_onset_s"] - (1.9 - onset)) < 1e-9,
+          "a run given data from 1.75 s, after the onset, counts its start delay from there (%s)"
+          % late["init_after_data_s"])  # fmt: skip
+    early = matrix_run.score(None, dict(estimator=dict(initialized=True, initialized_at_s=1.9)), gt, est, 0.5)
+    check(abs(early["init_after_data_s"] - early["init_after_onset_s"]) < 1e-12,
+          "an offset before the onset does not change the start delay")  # fmt: skip
+    check(matrix_run.skip_of(["asynevo", "run", "--skip-ms", "150"]) == 0.15 and matrix_run.skip_of(None) == 0.0,
+          "the skip of a recorded command")  # fmt: skip
+    replay_dir = os.path.join(tmp, "replay_run")
+    os.makedirs(replay_dir)
+    with open(os.path.join(replay_dir, "tracks.txt"), "w") as f:
+        f.write("# id t x y\n0 0.020169452 169 66\n1 0.0213 137 136\n")
+    replay = dict(replay_of="elsewhere", command=["bench_replay_tracks", "a", "b", "c", "--skip-ms", "100"])
+    given = dict(input=dict(first_event_s=0.051))  # the recorded run was given events from 51 ms on
+    check(abs(matrix_run.data_start(replay, given, replay_dir, 0.001) - (0.1 + 0.020169452 - 0.001)) < 1e-12,
+          "a replay's offset counts from its tracks' first measurement")  # fmt: skip
+    late_events = dict(input=dict(first_event_s=0.301))
+    check(abs(matrix_run.data_start(replay, late_events, replay_dir, 0.001) - 0.3) < 1e-12,
+          "a replay's data start is never before the recorded run's first event")  # fmt: skip
+    full = dict(command=["asynevo", "run", "--skip-ms", "50"])
+    check(abs(matrix_run.data_start(full, given, replay_dir, 0.001) - 0.05) < 1e-12,
+          "a full run's data start is its first event, after its --skip-ms")  # fmt: skip
+    check(matrix_run.data_start(dict(replay_of="elsewhere", command=["bench_replay_tracks"]), {}, replay_dir, 0.0) == 0.0,
+          "nothing said, no data start")  # fmt: skip
+    # a replay's figures come from its log, also when it is scored again
+    with open(os.path.join(replay_dir, "segments.txt"), "w") as f:
+        f.write("# segment t_begin t_end knots ended_by\n0 0.3 5.0 94 event_gap\n1 5.4 9.9 90 end_of_stream\n")
+    out = "bench: fed 10 measurements (0 skipped), 184 knots, initialized true at 0.312 s after 7 attempt(s)\n"
+    st = matrix_run.replay_stats(replay_dir, replay_dir, out, 1.5)
+    check(st["estimator"]["initialized"] and st["estimator"]["initialized_at_s"] == 0.312
+          and st["estimator"]["init_attempts"] == 7 and [g["ended_by"] for g in st["estimator"]["segments"]]
+          == ["event_gap", "end_of_stream"], "a replay's start, attempts and segments from its log")  # fmt: skip
 
     # a configuration's sensor section follows the sequence's sensor
     seq_dir = os.path.join(tmp, "seq346")
