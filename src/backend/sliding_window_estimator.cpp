@@ -627,6 +627,9 @@ TriangulationOptions SlidingWindowEstimator::triangulationOptions() const {
   TriangulationOptions tri;
   tri.min_parallax_deg = c.min_parallax_deg;
   tri.max_error = normalizedThreshold(c.max_triangulation_px);
+  // A start counts its landmarks by the largest error: its first knots are a constant-twist fit, and
+  // the RMS test there lets a start come earlier on a poorer map (docs/results/window_landmarks.md).
+  tri.rms_error = c.triangulation_error == "rms" && tracking_;
   tri.min_depth = c.min_depth;
   return tri;
 }

@@ -85,6 +85,7 @@ TriangulationResult triangulate(const std::vector<TriangulationView>& views, con
     if (step.norm() < 1e-10 * (1.0 + p_w.norm())) break;
   }
 
+  double squared_sum = 0;
   for (const auto& v : views) {
     const Eigen::Vector3d p_c = v.T_w_c.inverse() * p_w;
     if (!(p_c.z() >= options.min_depth)) {
@@ -93,8 +94,10 @@ TriangulationResult triangulate(const std::vector<TriangulationView>& views, con
     }
     const Eigen::Vector2d e = p_c.head<2>() / p_c.z() - v.xn;
     result.max_error = std::max(result.max_error, e.norm());
+    squared_sum += e.squaredNorm();
   }
-  if (!(result.max_error <= options.max_error)) {
+  result.rms_error = std::sqrt(squared_sum / static_cast<double>(views.size()));
+  if (!((options.rms_error ? result.rms_error : result.max_error) <= options.max_error)) {
     result.failure = TriangulationFailure::kHighError;
     return result;
   }

@@ -66,6 +66,35 @@ TEST(Triangulation, RecoversAPointAndRejectsBadGeometry) {
   EXPECT_EQ(triangulate(views, options).failure, TriangulationFailure::kHighError);
 }
 
+TEST(Triangulation, TheRmsTestAdmitsOnePoorViewAmongManyButNotAPoorTrajectory) {
+  // 20 exact views of a point at depth 4 from cameras 5 cm apart (focal length 200 px, so the 3 px
+  // bound is 0.015), then one view moved by 6 px: its error after the refinement is still above the
+  // bound, the RMS over the 20 views is well below it.
+  const Eigen::Vector3d p_w(0.3, -0.2, 4.0);
+  std::vector<TriangulationView> views;
+  for (int i = 0; i < 20; ++i) {
+    const lie::SE3 T_w_c(lie::so3::exp(Eigen::Vector3d(0, 0.01 * i, 0)), Eigen::Vector3d(0.05 * i, 0, 0));
+    const Eigen::Vector3d p_c = T_w_c.inverse() * p_w;
+    views.push_back({T_w_c, p_c.head<2>() / p_c.z()});
+  }
+  views[10].xn += Eigen::Vector2d(0.03, 0);
+  TriangulationOptions largest;
+  largest.max_error = 0.015;
+  TriangulationOptions rms = largest;
+  rms.rms_error = true;
+  const TriangulationResult by_largest = triangulate(views, largest);
+  EXPECT_EQ(by_largest.failure, TriangulationFailure::kHighError);
+  EXPECT_GT(by_largest.max_error, 0.015);
+  const TriangulationResult by_rms = triangulate(views, rms);
+  ASSERT_TRUE(by_rms.p_w) << triangulationFailureName(by_rms.failure);
+  EXPECT_LT(by_rms.rms_error, 0.015);
+  EXPECT_NEAR(by_rms.max_error, by_largest.max_error, 1e-12);  // the same point, only the test differs
+  EXPECT_LT((*by_rms.p_w - p_w).norm(), 0.2);
+  // Every view 4 px off in alternating directions: no RMS below 3 px, rejected either way.
+  for (int i = 0; i < 20; ++i) views[i].xn.y() += (i % 2 ? 0.02 : -0.02);
+  EXPECT_EQ(triangulate(views, rms).failure, TriangulationFailure::kHighError);
+}
+
 TEST(Trajectory, ConstantVelocityExtensionIsInterpolatedExactly) {
   Trajectory trajectory;
   lie::Vec6 w;

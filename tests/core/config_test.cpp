@@ -163,6 +163,16 @@ TEST(Config, TheDirectionAuditKeysAreCheckedWithTheirNames) {
   EXPECT_EQ(yamlError("backend:\n  direction_audit_restart_rule: same\n"), "accepted");
 }
 
+TEST(Config, TheTriangulationErrorIsCheckedWithItsName) {
+  for (const char* statistic : {"max", "rms"}) {
+    Config config;
+    applyConfigYaml(std::string("backend:\n  triangulation_error: ") + statistic + "\n", "x.yaml", config);
+    EXPECT_EQ(config.backend.triangulation_error, statistic);
+  }
+  EXPECT_NE(yamlError("backend:\n  triangulation_error: median\n").find("backend.triangulation_error = 'median'"),
+            std::string::npos);
+}
+
 TEST(Config, AFeatureBudgetLargerThanTheSensorHoldsIsRejectedWithItsKeys) {
   Config config;  // 240x180, border 16 px, features 15 px apart: 208 x 148 px hold 158 hexagonally
   config.validateForSensor();

@@ -2,7 +2,8 @@
 // Multi-view triangulation of one feature trajectory from GP-interpolated camera poses: linear (DLT on
 // the homogeneous point, smallest eigenvector of AᵀA) followed by a few Gauss-Newton steps on the
 // normalized reprojection error (Hartley & Zisserman, Multiple View Geometry, §12.2). The result is
-// checked for parallax, depth and reprojection error, and a failure says which check failed.
+// checked for parallax, depth and reprojection error (the largest over the views, or their RMS), and a
+// failure says which check failed.
 
 #include <Eigen/Core>
 #include <optional>
@@ -21,6 +22,9 @@ struct TriangulationView {
 struct TriangulationOptions {
   double min_parallax_deg = 1.0;  ///< largest angle between any view's ray and the first view's ray
   double max_error = 3.0 / 200;   ///< largest reprojection error, normalized units (px / focal length)
+  /// The reprojection test bounds the RMS error over the views instead of the largest one: one poor
+  /// measurement among many then does not keep a trajectory from ever becoming a landmark.
+  bool rms_error = false;
   double min_depth = 0.05;        ///< smallest depth in any view
   int refinement_iterations = 5;
 };
@@ -34,6 +38,7 @@ struct TriangulationResult {
   TriangulationFailure failure = TriangulationFailure::kNone;
   double parallax_deg = 0;
   double max_error = 0;  ///< normalized units
+  double rms_error = 0;  ///< normalized units, over the views
 };
 
 TriangulationResult triangulate(const std::vector<TriangulationView>& views, const TriangulationOptions& options);

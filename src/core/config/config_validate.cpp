@@ -89,6 +89,9 @@ void BackendConfig::validate() const {
   requireRange("backend.min_track_measurements", min_track_measurements, 2, 100000);
   requireRange("backend.min_parallax_deg", min_parallax_deg, 0.0, 90.0);
   requireRange("backend.max_triangulation_px", max_triangulation_px, 1e-3, 1e6);
+  if (triangulation_error != "max" && triangulation_error != "rms")
+    throw ConfigError(fmt::format("configuration value backend.triangulation_error = '{}' is not one of max, rms",
+                                  triangulation_error));
   requireRange("backend.pixel_bounds_focal_px", pixel_bounds_focal_px, 0.0, 1e6);
   requireRange("backend.min_depth", min_depth, 0.0, 1e6);
   if (landmark_depth_range != 0.0)

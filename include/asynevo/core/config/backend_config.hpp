@@ -33,6 +33,9 @@ struct BackendConfig {
   int min_track_measurements = 5;      ///< measurements needed before a trajectory is triangulated
   double min_parallax_deg = 1.0;       ///< minimum angle between the first and last rays
   double max_triangulation_px = 3.0;   ///< maximum reprojection error of a fresh triangulation
+  /// Which reprojection error of a fresh triangulation max_triangulation_px bounds: "max", the largest
+  /// over its views, or "rms", their RMS (as track_outlier_rms_px bounds a landmark's after a solve).
+  std::string triangulation_error = "max";
   /// Resolution rule for the window's pixel bounds (huber_px, outlier_px, track_outlier_rms_px,
   /// track_split_px, max_triangulation_px, loss_max_median_px): > 0, they are given for a camera of this
   /// focal length and a camera of a longer one scales them by its focal length / this value (they are
@@ -183,6 +186,8 @@ struct BackendConfig {
     v("min_track_measurements", min_track_measurements, "measurements before a trajectory is triangulated");
     v("min_parallax_deg", min_parallax_deg, "minimum ray angle to triangulate a trajectory [deg]");
     v("max_triangulation_px", max_triangulation_px, "maximum reprojection error of a new landmark [px]");
+    v("triangulation_error", triangulation_error,
+      "which error of a new landmark max_triangulation_px bounds: max (over its views) or rms");
     v("pixel_bounds_focal_px", pixel_bounds_focal_px,
       "resolution rule: the window's pixel bounds are for a camera of this focal length; a longer one scales "
       "them by its focal length / this [px] (0 = the sensor's own pixels)");
