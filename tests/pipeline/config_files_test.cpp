@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "asynevo/core/config/config.hpp"
+#include "asynevo/sim/sensor.hpp"
 
 namespace asynevo {
 namespace {
@@ -50,6 +51,26 @@ TEST(ConfigFiles, EachLoadsAndListsEveryParameter) {
       EXPECT_EQ(config.sensor.width, 240);
       EXPECT_EQ(config.sensor.height, 180);
     }
+  }
+}
+
+// config/sensors/NAME.yaml (tools/sensor_configs.py): for each simulated sensor, the defaults of
+// config/sim.yaml with that sensor's size, and nothing else changed.
+TEST(ConfigFiles, EachSensorFileIsTheDefaultsAtItsSensorSize) {
+  const std::set<std::string> all = keysOf(configToYaml(Config()));
+  for (const std::string& name : sim::sensorPresetNames()) {
+    const std::string path = std::string(ASYNEVO_SOURCE_DIR) + "/config/sensors/" + name + ".yaml";
+    Config config;
+    ASSERT_NO_THROW(config = loadConfig(path)) << path;
+    const std::set<std::string> listed = keysOf(readFile(path));
+    for (const std::string& key : all) EXPECT_EQ(listed.count(key), 1u) << path << " does not list " << key;
+    const CameraModel camera = sim::sensorPresetCamera(name);
+    EXPECT_EQ(config.sensor.width, camera.width()) << path;
+    EXPECT_EQ(config.sensor.height, camera.height()) << path;
+    Config expected;
+    expected.sensor.width = camera.width();
+    expected.sensor.height = camera.height();
+    EXPECT_EQ(configToYaml(config), configToYaml(expected)) << path << " differs from the defaults in more than the size";
   }
 }
 
