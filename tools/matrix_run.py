@@ -32,6 +32,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import alignment  # noqa: E402
 import config_text  # noqa: E402
 
 COVERAGE_MAX_GAP_S = 0.25  # estimate poses further apart than this do not cover the time between them
@@ -150,9 +151,24 @@ def data_start(rec, stats, run_dir, begin):
     return start
 
 
-def score(eval_json, stats, gt, est, data_start_s=0.0):
+def read_segments(run_dir):
+    """(start_s, end_s) of each segment in a run folder's segments.txt; [] without one."""
+    segments = []
+    try:
+        with open(os.path.join(run_dir, "segments.txt")) as f:
+            for line in f:
+                fields = line.split()
+                if len(fields) >= 3 and not fields[0].startswith("#"):
+                    segments.append((float(fields[1]), float(fields[2])))
+    except (OSError, ValueError):
+        return []
+    return segments
+
+
+def score(eval_json, stats, gt, est, data_start_s=0.0, segment_bounds=()):
     """The figures of one finished run (None where a figure does not exist). data_start_s: from when
-    after the ground truth's first pose the run was given data (a start offset; see data_start)."""
+    after the ground truth's first pose the run was given data (a start offset; see data_start);
+    segment_bounds: (start_s, end_s) of the estimate's segments (read_segments), for the drift figures."""
     s = {}
     inp = (stats or {}).get("input", {})
     est_ = (stats or {}).get("estimator", {})
@@ -203,6 +219,11 @@ def score(eval_json, stats, gt, est, data_start_s=0.0):
         s["reversed_pct"] = 100.0 * reversed_fraction if isinstance(reversed_fraction, (int, float)) else None
         s["ate_rot_deg"] = eval_json["ate"].get("rot_deg", {}).get("rmse")
         s["scale"] = eval_json.get("alignment", {}).get("scale")
+        # How much of the ATE is drift: the same RMSE after aligning each 2 s window of a segment by its
+        # own Sim(3), and how far the windows' scales spread (alignment.local_drift).
+        local_m, scale_ratio, _ = alignment.local_drift(est, gt, segment_bounds)
+        s["ate_local_pct"] = 100.0 * local_m / path if local_m is not None and path > 0 else None
+        s["scale_drift_pct"] = 100.0 * (scale_ratio - 1.0) if scale_ratio is not None else None
     return s
 
 
@@ -370,7 +391,7 @@ def main():
     gt = load_poses(os.path.join(args.dataset, "groundtruth.txt"))
     est = load_poses(os.path.join(args.run_dir, "stamped_traj_estimate.txt"))
     begin = float(gt[0, 0]) if len(gt) else None
-    rec.update(score(eval_json, stats, gt, est, data_start(rec, stats, args.run_dir, begin)))
+    rec.update(score(eval_json, stats, gt, est, data_start(rec, stats, args.run_dir, begin), read_segments(args.run_dir)))
     tmp = args.score + ".tmp"
     with open(tmp, "w") as f:
         json.dump(rec, f, indent=1, sort_keys=True)

@@ -27,6 +27,8 @@ try:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
+    import alignment
 except ImportError as e:  # pragma: no cover - depends on the machine
     sys.exit(
         "plot_run.py: %s. Install Debian's python3-matplotlib and python3-numpy "
@@ -123,20 +125,6 @@ def nearest_matches(t_est, t_gt, max_diff=MAX_TIME_DIFF_S):
     return np.nonzero(ok)[0], j[ok]
 
 
-def umeyama_sim3(model, data):
-    """s, R, t minimizing sum |model - (s R data + t)|^2 (Umeyama 1991); points as rows."""
-    mu_m, mu_d = model.mean(0), data.mean(0)
-    m0, d0 = model - mu_m, data - mu_d
-    C = m0.T @ d0 / len(model)
-    U, D, Vt = np.linalg.svd(C)
-    S = np.eye(3)
-    if np.linalg.det(U) * np.linalg.det(Vt) < 0:
-        S[2, 2] = -1
-    R = U @ S @ Vt
-    s = np.trace(np.diag(D) @ S) / (d0 ** 2).sum(1).mean()
-    return s, R, mu_m - s * R @ mu_d
-
-
 def finite_difference(t, p, window_s=0.05):
     """Central differences over about +-window_s/2 (mocap noise is large at the ms scale)."""
     if len(t) < 3:
@@ -185,7 +173,7 @@ class Run:
             else:
                 ie, ig = nearest_matches(self.est[:, 0], self.gt[:, 0])
                 if len(ie) >= 3:
-                    s, R, t = umeyama_sim3(self.gt[ig, 1:4], self.est[ie, 1:4])
+                    s, R, t = alignment.umeyama_sim3(self.gt[ig, 1:4], self.est[ie, 1:4])
                     self.align = (s, R, t, "aligned: sim3 (no eval.json), scale %.4g" % s)
         if self.est is not None:
             self.t0 = self.est[0, 0] if self.gt is None else min(self.est[0, 0], self.gt[0, 0])

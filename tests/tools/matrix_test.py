@@ -173,6 +173,39 @@ def units():
           and st["estimator"]["init_attempts"] == 7 and [g["ended_by"] for g in st["estimator"]["segments"]]
           == ["event_gap", "end_of_stream"], "a replay's start, attempts and segments from its log")  # fmt: skip
 
+    # drift: each 2 s window of a segment aligned by its own Sim(3)
+    import alignment
+    t = np.arange(0.0, 8.0, 0.05)
+    truth = np.zeros((len(t), 8))
+    truth[:, 0] = t
+    truth[:, 7] = 1.0
+    truth[:, 1] = np.cos(t)  # a loop of radius 1 m in x-y
+    truth[:, 2] = np.sin(t)
+    local, ratio, windows = alignment.local_drift(truth, truth, [(0.0, 7.95)])
+    check(windows == 4 and local < 1e-9 and abs(ratio - 1.0) < 1e-9, "an exact estimate has no drift")  # fmt: skip
+    drifting = truth.copy()
+    grow = np.where(t < 4.0, 1.0, 1.5)  # the map's scale jumps by half at 4 s, each half rigid
+    drifting[:, 1:4] = truth[:, 1:4] * grow[:, None] + np.array([0.3, -0.2, 0.1])
+    local, ratio, _ = alignment.local_drift(drifting, truth, [(0.0, 7.95)])
+    check(local < 1e-9 and abs(ratio - 1.5) < 1e-9,
+          "a scale that jumps between windows: no local error, scale ratio 1.5 (%s, %s)" % (local, ratio))  # fmt: skip
+    _, ratio, _ = alignment.local_drift(drifting, truth, [(0.0, 3.95), (4.0, 7.95)])
+    check(abs(ratio - 1.0) < 1e-9, "each segment has its own scale: no drift within either")  # fmt: skip
+    still = truth.copy()
+    still[t >= 4.0, 1:4] = truth[t >= 4.0][0, 1:4]  # the camera stands still from 4 s
+    _, ratio, _ = alignment.local_drift(still, still, [(0.0, 7.95)])
+    check(abs(ratio - 1.0) < 1e-9, "windows without motion fit no scale")
+    scored = matrix_run.score(dict(matched_gt_path_length_m=8.0, ate=dict(trans_m=dict(rmse=0.1))), {}, truth, drifting,
+                              segment_bounds=[(0.0, 7.95)])  # fmt: skip
+    check(abs(scored["scale_drift_pct"] - 50.0) < 1e-6 and scored["ate_local_pct"] < 1e-6,
+          "the score holds the drift figures (%s)" % scored["scale_drift_pct"])  # fmt: skip
+    seg_dir = os.path.join(tmp, "segments_run")
+    os.makedirs(seg_dir)
+    with open(os.path.join(seg_dir, "segments.txt"), "w") as f:
+        f.write("# index start_s end_s knots ended_by\n0 0.05 4.0 80 event_gap\n1 4.4 9.9 110 end_of_stream\n")
+    check(matrix_run.read_segments(seg_dir) == [(0.05, 4.0), (4.4, 9.9)] and matrix_run.read_segments(tmp) == [],
+          "segment bounds from segments.txt")  # fmt: skip
+
     # a configuration's sensor section follows the sequence's sensor
     seq_dir = os.path.join(tmp, "seq346")
     os.makedirs(seq_dir)
