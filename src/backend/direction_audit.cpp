@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "asynevo/backend/depth_reversal.hpp"
+#include "upper_median.hpp"
 #include "view_geometry.hpp"
 
 namespace asynevo::backend {
@@ -26,9 +27,7 @@ std::optional<ReversalCheck> auditDirection(const Trajectory& window, const Trac
   std::vector<double> parallax;
   for (std::size_t i = 0; i < a.size(); ++i)
     parallax.push_back(view_geometry::angleBetween(T_b_a.rotation() * a[i], b[i]) * focal);
-  std::nth_element(parallax.begin(), parallax.begin() + static_cast<std::ptrdiff_t>(parallax.size() / 2),
-                   parallax.end());
-  const double median_parallax = parallax[parallax.size() / 2];
+  const double median_parallax = upperMedian(parallax);
   if (median_parallax < min_parallax_px) return std::nullopt;
   const TwoViewMotion motion{T_b_a.rotation(), T_b_a.translation().normalized()};
   const auto reversal = findDepthReversal(motion, a, b, focal, cauchy_px);

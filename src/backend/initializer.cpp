@@ -13,6 +13,7 @@
 
 #include "asynevo/backend/depth_reversal.hpp"
 #include "asynevo/core/time.hpp"
+#include "upper_median.hpp"
 #include "view_geometry.hpp"
 
 namespace asynevo::backend {
@@ -36,8 +37,7 @@ Correspondences correspondences(const TrackMap& tracks, int64_t t_a, int64_t t_b
     displacement.push_back((*pb - *pa).norm() * focal);
   }
   if (!displacement.empty()) {
-    std::nth_element(displacement.begin(), displacement.begin() + displacement.size() / 2, displacement.end());
-    c.median_px = displacement[displacement.size() / 2];
+    c.median_px = upperMedian(displacement);
   }
   return c;
 }
@@ -120,8 +120,7 @@ double medianParallaxPx(const Correspondences& c, const lie::Mat3& R_b_a, const 
     if (mask.at<uchar>(static_cast<int>(i)) != 0) angles.push_back(parallaxAngle(R_b_a, c.a[i], c.b[i]));
   }
   if (angles.empty()) return 0.0;
-  std::nth_element(angles.begin(), angles.begin() + angles.size() / 2, angles.end());
-  return angles[angles.size() / 2] * focal;
+  return upperMedian(angles) * focal;
 }
 
 /// How well a span pins the baseline direction: its error shrinks with the parallax and with the square

@@ -28,6 +28,7 @@
 #include "asynevo/backend/triangulation.hpp"
 #include "asynevo/backend/window_solver.hpp"
 #include "asynevo/core/time.hpp"
+#include "upper_median.hpp"
 
 namespace asynevo::backend {
 
@@ -591,8 +592,7 @@ double SlidingWindowEstimator::medianLandmarkDepth(const lie::SE3& T_c_w, std::s
   for (const auto& [id, track] : tracks_)
     if (track.triangulated) depths.push_back((T_c_w * Eigen::Map<const Eigen::Vector3d>(track.p_w.data())).z());
   if (depths.empty() || depths.size() < min_count) return 0;
-  std::nth_element(depths.begin(), depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2), depths.end());
-  return std::max(0.0, depths[depths.size() / 2]);
+  return std::max(0.0, upperMedian(depths));
 }
 
 void SlidingWindowEstimator::triangulateTracks() {
@@ -976,9 +976,7 @@ void SlidingWindowEstimator::removeOutliers() {
   }
   last_median_residual_px_ = 0;
   if (norms_px.size() >= 10) {
-    std::nth_element(norms_px.begin(), norms_px.begin() + static_cast<std::ptrdiff_t>(norms_px.size() / 2),
-                     norms_px.end());
-    last_median_residual_px_ = norms_px[norms_px.size() / 2];
+    last_median_residual_px_ = upperMedian(norms_px);
   }
   const DepthGate depth_gate = depthGate();
   for (auto& [track, r] : per_track) {
