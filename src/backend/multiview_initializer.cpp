@@ -66,20 +66,14 @@ Samples sample(const TrackMap& tracks, int64_t t_a, int64_t t_b, double focal) {
   return s;
 }
 
-/// A constant body twist: rotation rate φ (rad/s) and translation direction ρ (unit).
-struct Twist {
-  lie::Vec3 phi = lie::Vec3::Zero();
-  lie::Vec3 rho = lie::Vec3::UnitZ();
-};
-
 /// The relative pose T_s_e = exp(dt ξ) (camera e in the frame of camera s), translation up to scale.
-void relativePose(const Twist& w, double dt, lie::Mat3* R_s_e, lie::Vec3* t_s_e) {
+void relativePose(const ConstantTwist& w, double dt, lie::Mat3* R_s_e, lie::Vec3* t_s_e) {
   *R_s_e = lie::so3::exp(dt * w.phi);
   *t_s_e = lie::so3::leftJacobian(dt * w.phi) * w.rho;
 }
 
 /// Angular distance (rad) of the bearing at s from the epipolar plane of the motion and the bearing at e.
-double epipolarError(const Twist& w, const Pair& p) {
+double epipolarError(const ConstantTwist& w, const Pair& p) {
   lie::Mat3 R;
   lie::Vec3 t;
   relativePose(w, p.dt, &R, &t);
@@ -119,22 +113,24 @@ lie::Vec3 translationGivenRotation(const lie::Vec3& phi, const std::vector<Pair>
 }
 
 /// Parameters (φ, ρ), retracted by small_lm::retractRateAndDirection.
-Eigen::VectorXd pack(const Twist& w) {
+Eigen::VectorXd pack(const ConstantTwist& w) {
   Eigen::VectorXd x(6);
   x << w.phi, w.rho;
   return x;
 }
-Twist unpack(const Eigen::VectorXd& x) { return Twist{x.head<3>(), x.tail<3>().normalized()}; }
+ConstantTwist unpack(const Eigen::VectorXd& x) {
+  return ConstantTwist{x.head<3>(), x.tail<3>().normalized()};
+}
 
-Eigen::VectorXd epipolarResiduals(const Twist& w, const std::vector<Pair>& pairs) {
+Eigen::VectorXd epipolarResiduals(const ConstantTwist& w, const std::vector<Pair>& pairs) {
   Eigen::VectorXd r(pairs.size());
   for (std::size_t i = 0; i < pairs.size(); ++i) r(i) = epipolarError(w, pairs[i]);
   return r;
 }
 
 /// The twist refined from a rotation seed; `cost` is its robust cost.
-Twist refine(const lie::Vec3& phi_seed, const std::vector<Pair>& pairs, double c, double* cost) {
-  Twist w{phi_seed, translationGivenRotation(phi_seed, pairs)};
+ConstantTwist refine(const lie::Vec3& phi_seed, const std::vector<Pair>& pairs, double c, double* cost) {
+  ConstantTwist w{phi_seed, translationGivenRotation(phi_seed, pairs)};
   Eigen::VectorXd x = pack(w);
   const auto residuals = [&](const Eigen::VectorXd& v) { return epipolarResiduals(unpack(v), pairs); };
   if (!minimize(&x, 5, residuals, small_lm::retractRateAndDirection, c, 50)) {
@@ -148,7 +144,7 @@ Twist refine(const lie::Vec3& phi_seed, const std::vector<Pair>& pairs, double c
 
 /// Per sampled track: whether every one of its pairs lies within three RANSAC thresholds (3c) of its
 /// epipolar plane under w (the constant twist is only a model of the motion over the window).
-std::vector<bool> fittingFeatures(const Twist& w, const Samples& s, double c) {
+std::vector<bool> fittingFeatures(const ConstantTwist& w, const Samples& s, double c) {
   std::vector<bool> fits(s.longest.size(), true);
   for (const Pair& p : s.pairs) {
     if (std::abs(epipolarError(w, p)) > 3.0 * c) fits[p.track] = false;
@@ -202,9 +198,9 @@ InitResult initializeMultiView(const TrackMap& tracks, int64_t earliest_ns, int6
   // Two seeds for the rotation rate, the rotation-only fit and none; the better robust fit wins.
   const double c = config.init_ransac_px / focal;
   double cost_fit = 0, cost_zero = 0;
-  const Twist from_fit = refine(rotationOnlyRate(s.pairs), s.pairs, c, &cost_fit);
-  const Twist from_zero = refine(lie::Vec3::Zero(), s.pairs, c, &cost_zero);
-  Twist w = cost_fit <= cost_zero ? from_fit : from_zero;
+  const ConstantTwist from_fit = refine(rotationOnlyRate(s.pairs), s.pairs, c, &cost_fit);
+  const ConstantTwist from_zero = refine(lie::Vec3::Zero(), s.pairs, c, &cost_zero);
+  ConstantTwist w = cost_fit <= cost_zero ? from_fit : from_zero;
   if (!std::isfinite(std::min(cost_fit, cost_zero)) || !w.phi.allFinite() || !w.rho.allFinite()) {
     r.rejection = InitRejection::Model;
     r.failure = fmt::format("{}: no constant-twist fit from {} features", span, r.features);
@@ -218,14 +214,14 @@ InitResult initializeMultiView(const TrackMap& tracks, int64_t earliest_ns, int6
   }
   if (fitting.size() >= 5 && fitting.size() < s.pairs.size()) {
     double cost = 0;
-    const Twist refit = refine(w.phi, fitting, c, &cost);
+    const ConstantTwist refit = refine(w.phi, fitting, c, &cost);
     if (std::isfinite(cost) && refit.phi.allFinite() && refit.rho.allFinite()) w = refit;
     fits = fittingFeatures(w, s, c);
   }
   // The sign of ρ: the one that puts more of the fitting features in front of both cameras, judged on
   // each feature's longest pair; features with too little parallax for a depth sign do not vote.
   const double min_angle = 2.0 * c;
-  auto sides = [&](const Twist& candidate, int* front, int* not_behind) {
+  auto sides = [&](const ConstantTwist& candidate, int* front, int* not_behind) {
     *front = *not_behind = 0;
     for (std::size_t k = 0; k < s.longest.size(); ++k) {
       if (!fits[k]) continue;
@@ -242,7 +238,7 @@ InitResult initializeMultiView(const TrackMap& tracks, int64_t earliest_ns, int6
   };
   int front_plus = 0, kept_plus = 0, front_minus = 0, kept_minus = 0;
   sides(w, &front_plus, &kept_plus);
-  sides(Twist{w.phi, -w.rho}, &front_minus, &kept_minus);
+  sides(ConstantTwist{w.phi, -w.rho}, &front_minus, &kept_minus);
   if (front_minus > front_plus) w.rho = -w.rho;
   r.inliers = front_minus > front_plus ? kept_minus : kept_plus;
   if (r.inliers < config.init_min_inliers) {
@@ -256,16 +252,16 @@ InitResult initializeMultiView(const TrackMap& tracks, int64_t earliest_ns, int6
   if (config.init_depth_reversal != "off") {
     std::vector<BearingPair> longest;
     for (const int k : s.longest) longest.push_back({s.pairs[k].f_s, s.pairs[k].f_e, s.pairs[k].dt});
-    const auto reversal = findDepthReversal(ConstantTwist{w.phi, w.rho}, longest, focal, config.init_ransac_px);
+    const auto reversal = findDepthReversal(w, longest, focal, config.init_ransac_px);
     const double span_s = durationSeconds(r.t_a_ns, t_b_ns);
     const std::string_view decision = decideReversal(
         {r.t_a_ns, t_b_ns, r.method, r.features, reversal.given_cost, reversal.reversed_cost,
-         reversal.reversed.has_value(), motionOver(ConstantTwist{w.phi, w.rho}, span_s).t_b_a,
+         reversal.reversed.has_value(), motionOver(w, span_s).t_b_a,
          reversal.reversed ? motionOver(*reversal.reversed, span_s).t_b_a : lie::Vec3::Zero()},
         span, config, &r);
     if (decision == "tie") return r;
     if (decision == "reversed") {
-      w = Twist{reversal.reversed->phi, reversal.reversed->rho};
+      w = *reversal.reversed;
       fits = fittingFeatures(w, s, c);
       int front = 0;
       sides(w, &front, &r.inliers);
