@@ -40,14 +40,20 @@ TEST(ScaleAnchorFactor, JacobiansMatchNumericThroughTheManifold) {
   EXPECT_NEAR(r, ((T_b.translation() - T_a.translation()).norm() - 1.0) / 0.01, 1e-9);
 }
 
-TEST(Triangulation, RecoversAPointAndRejectsBadGeometry) {
-  const Eigen::Vector3d p_w(0.3, -0.2, 4.0);
+/// n exact views of p_w from cameras stepping `baseline` along x and turning `turn` rad about y each.
+std::vector<TriangulationView> exactViews(const Eigen::Vector3d& p_w, int n, double turn, double baseline) {
   std::vector<TriangulationView> views;
-  for (int i = 0; i < 5; ++i) {
-    const lie::SE3 T_w_c(lie::so3::exp(Eigen::Vector3d(0, 0.02 * i, 0)), Eigen::Vector3d(0.1 * i, 0, 0));
+  for (int i = 0; i < n; ++i) {
+    const lie::SE3 T_w_c(lie::so3::exp(Eigen::Vector3d(0, turn * i, 0)), Eigen::Vector3d(baseline * i, 0, 0));
     const Eigen::Vector3d p_c = T_w_c.inverse() * p_w;
     views.push_back({T_w_c, p_c.head<2>() / p_c.z()});
   }
+  return views;
+}
+
+TEST(Triangulation, RecoversAPointAndRejectsBadGeometry) {
+  const Eigen::Vector3d p_w(0.3, -0.2, 4.0);
+  std::vector<TriangulationView> views = exactViews(p_w, 5, 0.02, 0.1);
   TriangulationOptions options;
   const TriangulationResult ok = triangulate(views, options);
   ASSERT_TRUE(ok.p_w) << triangulationFailureName(ok.failure);
@@ -71,12 +77,7 @@ TEST(Triangulation, TheRmsTestAdmitsOnePoorViewAmongManyButNotAPoorTrajectory) {
   // bound is 0.015), then one view moved by 6 px: its error after the refinement is still above the
   // bound, the RMS over the 20 views is well below it.
   const Eigen::Vector3d p_w(0.3, -0.2, 4.0);
-  std::vector<TriangulationView> views;
-  for (int i = 0; i < 20; ++i) {
-    const lie::SE3 T_w_c(lie::so3::exp(Eigen::Vector3d(0, 0.01 * i, 0)), Eigen::Vector3d(0.05 * i, 0, 0));
-    const Eigen::Vector3d p_c = T_w_c.inverse() * p_w;
-    views.push_back({T_w_c, p_c.head<2>() / p_c.z()});
-  }
+  std::vector<TriangulationView> views = exactViews(p_w, 20, 0.01, 0.05);
   views[10].xn += Eigen::Vector2d(0.03, 0);
   TriangulationOptions largest;
   largest.max_error = 0.015;
