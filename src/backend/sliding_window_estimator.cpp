@@ -51,6 +51,7 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options)
       knot_dt_ns_(std::llround(options.config.knot_dt_ms * 1e6)),
       measurement_dt_ns_(std::llround(options.config.track_measurement_dt_ms * 1e6)),
       se3_manifold_(std::make_unique<SE3Manifold>()),
+      solver_workspace_(std::make_unique<WindowSolverWorkspace>()),
       final_velocity_(std::max(options.config.linear_velocity_span_knots, 0)) {
   options_.config.validate();
   if (options_.config.pixel_bounds_focal_px > 0) {  // the bounds are angles above the reference focal length
@@ -762,7 +763,7 @@ std::pair<int, double> SlidingWindowEstimator::solveBuiltin(const std::vector<Fa
   solver_options.threads = options_.config.solver_threads;
   if (options_.real_time) solver_options.max_time_s = options_.config.max_solver_time_s;
   const WindowSolverSummary summary =
-      solveWindow(factors, kinds, landmarks, constant, *se3_manifold_, solver_options);
+      solveWindow(factors, kinds, landmarks, constant, *se3_manifold_, solver_options, solver_workspace_.get());
   SolveTimes& times = last_solve_times_;
   times.build_ms = build_ms;
   times.residuals_ms = summary.residuals_ms;

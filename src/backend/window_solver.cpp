@@ -14,6 +14,12 @@
 
 namespace asynevo::backend {
 
+struct WindowSolverWorkspace::Buffers {
+  std::vector<double> residuals, jacobians, saved, factor_cost;
+  Eigen::MatrixXd H, S;
+  Eigen::VectorXd g, rhs, delta_c;
+};
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -69,8 +75,17 @@ class ArrowProblem {
  public:
   ArrowProblem(const std::vector<FactorEntry>& entries, const std::map<double*, BlockKind>& kinds,
                const std::set<const double*>& landmarks, const std::set<const double*>& constant,
-               const ceres::Manifold& manifold)
-      : manifold_(manifold) {
+               const ceres::Manifold& manifold, WindowSolverWorkspace::Buffers& buffers)
+      : manifold_(manifold),
+        residuals_(buffers.residuals),
+        jacobians_(buffers.jacobians),
+        saved_(buffers.saved),
+        factor_cost_(buffers.factor_cost),
+        H_(buffers.H),
+        S_(buffers.S),
+        g_(buffers.g),
+        rhs_(buffers.rhs),
+        delta_c_(buffers.delta_c) {
     std::unordered_map<const double*, int> index;
     auto variableOf = [&](double* block, int ambient) {
       const auto found = index.find(block);
@@ -494,12 +509,19 @@ class ArrowProblem {
   std::vector<Factor> factors_;
   std::vector<Landmark> landmarks_;
   int reduced_dims_ = 0;
-  std::vector<double> residuals_, jacobians_, saved_;
-  std::vector<double> factor_cost_;  ///< each factor's ½ρ(|r|²) of the latest evaluation
+  // The large buffers live in the workspace (WindowSolverWorkspace::Buffers) and keep their memory
+  // between solves; every element read is written first in this solve.
+  std::vector<double>& residuals_;
+  std::vector<double>& jacobians_;
+  std::vector<double>& saved_;
+  std::vector<double>& factor_cost_;  ///< each factor's ½ρ(|r|²) of the latest evaluation
   std::vector<int> eval_order_;      ///< factor indices in evaluation order (grouped by first block)
   std::vector<int> bounds_;          ///< the ranges of eval_order_ evaluated by one thread each
-  Eigen::MatrixXd H_, S_;
-  Eigen::VectorXd g_, rhs_, delta_c_;
+  Eigen::MatrixXd& H_;
+  Eigen::MatrixXd& S_;
+  Eigen::VectorXd& g_;
+  Eigen::VectorXd& rhs_;
+  Eigen::VectorXd& delta_c_;
   std::vector<Eigen::Vector3d> delta_l_;
   std::vector<CameraLandmarkBlock> WV_;  ///< scratch: W V⁻¹ of one landmark
   Eigen::MatrixXd camera_jacobian_, camera_information_;  ///< scratch of a generic factor
@@ -510,12 +532,18 @@ class ArrowProblem {
 
 }  // namespace
 
+WindowSolverWorkspace::WindowSolverWorkspace() : buffers_(std::make_unique<Buffers>()) {}
+WindowSolverWorkspace::~WindowSolverWorkspace() = default;
+
 WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const std::map<double*, BlockKind>& kinds,
                                 const std::set<const double*>& landmarks, const std::set<const double*>& constant,
-                                const ceres::Manifold& pose_manifold, const WindowSolverOptions& options) {
+                                const ceres::Manifold& pose_manifold, const WindowSolverOptions& options,
+                                WindowSolverWorkspace* workspace) {
   const auto start = Clock::now();
   WindowSolverSummary summary;
-  ArrowProblem problem(factors, kinds, landmarks, constant, pose_manifold);
+  WindowSolverWorkspace own;
+  ArrowProblem problem(factors, kinds, landmarks, constant, pose_manifold,
+                       (workspace ? *workspace : own).buffers());
   summary.eliminated_landmarks = problem.eliminatedLandmarks();
   summary.reduced_dims = problem.reducedDims();
   summary.evaluation_threads = problem.evaluationThreads(options.threads);

@@ -267,6 +267,36 @@ TEST_F(WindowSolverTest, FactorsEvaluatedOnSeveralThreadsGiveTheSameResultBitFor
   }
 }
 
+TEST_F(WindowSolverTest, AReusedWorkspaceGivesTheSameResultBitForBit) {
+  // One workspace through the whole window, then a smaller one (its buffers then hold the larger
+  // solve's values beyond the smaller one's sizes), then the whole window again: each solve as a solve
+  // with buffers of its own.
+  auto solve = [&](GpBaState& x, bool drop_projections, WindowSolverWorkspace* workspace) {
+    Window w = makeWindow(scenario_, x, 2.0);
+    if (drop_projections) w.factors.resize(w.factors.size() / 2);
+    WindowSolverOptions options;
+    options.max_iterations = 6;
+    return solveWindow(w.factors, w.kinds, w.landmarks, constantOf(x), manifold_, options, workspace);
+  };
+  WindowSolverWorkspace workspace;
+  for (const bool smaller : {false, true, false}) {
+    GpBaState fresh = start_, reused = start_;
+    const WindowSolverSummary a = solve(fresh, smaller, nullptr);
+    const WindowSolverSummary b = solve(reused, smaller, &workspace);
+    ASSERT_TRUE(a.valid_start);
+    ASSERT_LT(a.final_cost, a.initial_cost) << "smaller " << smaller;
+    EXPECT_EQ(b.final_cost, a.final_cost) << "smaller " << smaller;
+    EXPECT_EQ(b.iterations, a.iterations) << "smaller " << smaller;
+    EXPECT_EQ(b.reduced_dims, a.reduced_dims) << "smaller " << smaller;
+    for (std::size_t k = 0; k < fresh.poses.size(); ++k) {
+      EXPECT_EQ(reused.poses[k], fresh.poses[k]) << "smaller " << smaller << ", knot " << k;
+      EXPECT_EQ(reused.velocities[k], fresh.velocities[k]) << "smaller " << smaller << ", knot " << k;
+    }
+    for (std::size_t l = 0; l < fresh.landmarks.size(); ++l)
+      EXPECT_EQ(reused.landmarks[l], fresh.landmarks[l]) << "smaller " << smaller << ", landmark " << l;
+  }
+}
+
 TEST_F(WindowSolverTest, AFewFactorsAreEvaluatedOnOneThread) {
   // 11 WNOA priors alone: fewer than one thread's share, whatever is asked.
   GpBaState x = start_;

@@ -26,6 +26,8 @@ class Manifold;
 
 namespace asynevo::backend {
 
+class WindowSolverWorkspace;
+
 struct EstimatorOptions {
   BackendConfig config;
   double focal_px = 200.0;  ///< mean focal length: converts pixel thresholds to normalized units
@@ -181,6 +183,7 @@ class SlidingWindowEstimator : public Estimator {
   int64_t measurement_dt_ns_;  ///< config.track_measurement_dt_ms
   Eigen::Matrix<double, 6, 6> Q_c_;
   std::unique_ptr<ceres::Manifold> se3_manifold_;
+  std::unique_ptr<WindowSolverWorkspace> solver_workspace_;  ///< the builtin solver's buffers, reused
   std::shared_ptr<ceres::LossFunction> huber_;
 
   Trajectory trajectory_;

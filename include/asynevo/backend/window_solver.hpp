@@ -21,6 +21,7 @@
 #include <ceres/manifold.h>
 
 #include <map>
+#include <memory>
 #include <set>
 #include <vector>
 
@@ -53,11 +54,30 @@ struct WindowSolverSummary {
   double residuals_ms = 0.0, jacobians_ms = 0.0, linear_ms = 0.0, total_ms = 0.0;
 };
 
+/// The large buffers of a solve (residuals, Jacobians, the knot system), kept from one solve to the next
+/// by whoever solves repeatedly (the sliding window keeps one), so that a solve reuses their memory
+/// instead of asking the allocator for megabytes that come back as fresh pages every time. The result
+/// does not depend on it.
+class WindowSolverWorkspace {
+ public:
+  struct Buffers;  ///< defined in window_solver.cpp
+  WindowSolverWorkspace();
+  ~WindowSolverWorkspace();
+  WindowSolverWorkspace(const WindowSolverWorkspace&) = delete;
+  WindowSolverWorkspace& operator=(const WindowSolverWorkspace&) = delete;
+  Buffers& buffers() { return *buffers_; }
+
+ private:
+  std::unique_ptr<Buffers> buffers_;
+};
+
 /// Minimizes Σ ½ρ(|rᵢ|²) over the blocks of `factors` in place. `kinds`: the kind of every block (pose
 /// blocks move through `pose_manifold`, whose tangent Jacobian is the first 6 of the 7 ambient columns);
 /// `landmarks`: the blocks that may be eliminated (3-vectors); `constant`: blocks held fixed.
+/// `workspace`: buffers to reuse (none: the solve allocates its own).
 WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const std::map<double*, BlockKind>& kinds,
                                 const std::set<const double*>& landmarks, const std::set<const double*>& constant,
-                                const ceres::Manifold& pose_manifold, const WindowSolverOptions& options);
+                                const ceres::Manifold& pose_manifold, const WindowSolverOptions& options,
+                                WindowSolverWorkspace* workspace = nullptr);
 
 }  // namespace asynevo::backend
