@@ -16,6 +16,7 @@ namespace asynevo::backend {
 
 struct WindowSolverWorkspace::Buffers {
   std::vector<double> residuals, jacobians, saved, factor_cost;
+  std::vector<int> block_variables, block_jacobian_offsets, block_slots;
   Eigen::MatrixXd H, S;
   Eigen::VectorXd g, rhs, delta_c;
 };
@@ -52,11 +53,12 @@ struct Factor {
   const FactorEntry* entry = nullptr;
   int residuals = 0;
   int residual_offset = 0;
-  std::vector<int> variables;        ///< per block
-  std::vector<int> jacobian_offset;  ///< per block, into the Jacobian buffer (m × ambient, row-major); −1: constant
+  /// Its blocks' entries in ArrowProblem's per-block arrays (variable, Jacobian offset, landmark slot):
+  /// [first, first + blocks).
+  int first = 0;
+  int blocks = 0;
   int landmark = -1;                 ///< the eliminated landmark it touches (at most one), or −1
   int landmark_block = -1;
-  std::vector<int> slots;            ///< per block: the landmark's slot of that camera block, or −1
   bool fixed_size = false;           ///< 2 residuals, four camera blocks of tangent 6 (the GP projection)
   /// A linear prior without loss on camera blocks only: its normal equations come from the factor itself.
   const LinearPriorFactor* linear_prior = nullptr;
@@ -81,6 +83,9 @@ class ArrowProblem {
         jacobians_(buffers.jacobians),
         saved_(buffers.saved),
         factor_cost_(buffers.factor_cost),
+        block_variables_(buffers.block_variables),
+        block_jacobian_offsets_(buffers.block_jacobian_offsets),
+        block_slots_(buffers.block_slots),
         H_(buffers.H),
         S_(buffers.S),
         g_(buffers.g),
@@ -106,29 +111,34 @@ class ArrowProblem {
     // marginalization prior over active landmarks): those stay in the dense system.
     std::set<int> coupled;
     factors_.reserve(entries.size());
+    block_variables_.clear();
+    block_jacobian_offsets_.clear();
     int residual_offset = 0;
     int jacobian_size = 0;
+    std::vector<int> landmark_vars;
     for (const FactorEntry& e : entries) {
       Factor f;
       f.entry = &e;
       f.residuals = e.cost->num_residuals();
       f.residual_offset = residual_offset;
       residual_offset += f.residuals;
+      f.first = static_cast<int>(block_variables_.size());
+      f.blocks = static_cast<int>(e.blocks.size());
       const auto& sizes = e.cost->parameter_block_sizes();
-      std::vector<int> landmark_vars;
+      landmark_vars.clear();
       for (std::size_t b = 0; b < e.blocks.size(); ++b) {
         const int v = variableOf(e.blocks[b], sizes[b]);
-        f.variables.push_back(v);
+        block_variables_.push_back(v);
         if (variables_[v].constant) {
-          f.jacobian_offset.push_back(-1);
+          block_jacobian_offsets_.push_back(-1);
         } else {
-          f.jacobian_offset.push_back(jacobian_size);
+          block_jacobian_offsets_.push_back(jacobian_size);
           jacobian_size += f.residuals * sizes[b];
         }
         if (!variables_[v].constant && landmarks.count(e.blocks[b])) landmark_vars.push_back(v);
       }
       if (landmark_vars.size() > 1) coupled.insert(landmark_vars.begin(), landmark_vars.end());
-      factors_.push_back(std::move(f));
+      factors_.push_back(f);
     }
     residuals_.resize(residual_offset);
     jacobians_.resize(jacobian_size);
@@ -149,12 +159,12 @@ class ArrowProblem {
     }
     reduced_dims_ = offset;
 
+    block_slots_.assign(block_variables_.size(), -1);
     for (Factor& f : factors_) {
-      f.slots.assign(f.variables.size(), -1);
       int camera_blocks = 0;
       bool all_six = true;
-      for (std::size_t b = 0; b < f.variables.size(); ++b) {
-        const Variable& var = variables_[f.variables[b]];
+      for (int b = 0; b < f.blocks; ++b) {
+        const Variable& var = variables_[blockVariable(f, b)];
         if (var.constant) continue;
         if (var.landmark >= 0) {
           f.landmark = var.landmark;
@@ -164,17 +174,18 @@ class ArrowProblem {
           all_six = all_six && var.tangent == 6;
         }
       }
-      f.fixed_size = f.residuals == 2 && camera_blocks == 4 && all_six && f.variables.size() == 5 &&
+      f.fixed_size = f.residuals == 2 && camera_blocks == 4 && all_six && f.blocks == 5 &&
                      f.landmark_block == 4;
       if (f.landmark < 0 && !f.entry->loss) f.linear_prior = dynamic_cast<const LinearPriorFactor*>(f.entry->cost.get());
       if (f.landmark < 0) continue;
       Landmark& lm = landmarks_[f.landmark];
-      for (std::size_t b = 0; b < f.variables.size(); ++b) {
-        const Variable& var = variables_[f.variables[b]];
+      for (int b = 0; b < f.blocks; ++b) {
+        const int v = blockVariable(f, b);
+        const Variable& var = variables_[v];
         if (var.constant || var.landmark >= 0) continue;
-        const auto found = std::find(lm.slot_variables.begin(), lm.slot_variables.end(), f.variables[b]);
-        f.slots[b] = static_cast<int>(found - lm.slot_variables.begin());
-        if (found == lm.slot_variables.end()) lm.slot_variables.push_back(f.variables[b]);
+        const auto found = std::find(lm.slot_variables.begin(), lm.slot_variables.end(), v);
+        block_slots_[f.first + b] = static_cast<int>(found - lm.slot_variables.begin());
+        if (found == lm.slot_variables.end()) lm.slot_variables.push_back(v);
       }
     }
     for (Landmark& lm : landmarks_) lm.W.resize(lm.slot_variables.size());
@@ -230,8 +241,16 @@ class ArrowProblem {
   /// The group of factor i: its first block's variable.
   int groupOf(int i) const {
     const Factor& f = factors_[static_cast<std::size_t>(i)];
-    return f.variables.empty() ? -1 : f.variables[0];
+    return f.blocks == 0 ? -1 : blockVariable(f, 0);
   }
+
+  /// Block b of factor f: its variable, its offset into the Jacobian buffer (−1: constant), and its
+  /// slot among its landmark's camera blocks (−1: none).
+  int blockVariable(const Factor& f, int b) const { return block_variables_[static_cast<std::size_t>(f.first + b)]; }
+  int blockJacobian(const Factor& f, int b) const {
+    return block_jacobian_offsets_[static_cast<std::size_t>(f.first + b)];
+  }
+  int blockSlot(const Factor& f, int b) const { return block_slots_[static_cast<std::size_t>(f.first + b)]; }
 
   /// evaluate() of the factors eval_order_[begin, end).
   bool evaluateRange(int begin, int end, bool with_jacobians) {
@@ -239,12 +258,12 @@ class ArrowProblem {
     for (int o = begin; o < end; ++o) {
       const int i = eval_order_[static_cast<std::size_t>(o)];
       const Factor& f = factors_[static_cast<std::size_t>(i)];
-      const std::size_t n_blocks = f.variables.size();
+      const std::size_t n_blocks = static_cast<std::size_t>(f.blocks);
       jacobian_ptrs.assign(n_blocks, nullptr);
       const bool jacobians = with_jacobians && !f.linear_prior;
       if (jacobians) {
-        for (std::size_t b = 0; b < n_blocks; ++b)
-          if (f.jacobian_offset[b] >= 0) jacobian_ptrs[b] = jacobians_.data() + f.jacobian_offset[b];
+        for (int b = 0; b < f.blocks; ++b)
+          if (blockJacobian(f, b) >= 0) jacobian_ptrs[b] = jacobians_.data() + blockJacobian(f, b);
       }
       double* r = residuals_.data() + f.residual_offset;
       if (!f.entry->cost->Evaluate(f.entry->blocks.data(), r, jacobians ? jacobian_ptrs.data() : nullptr))
@@ -289,9 +308,9 @@ class ArrowProblem {
     for (const Factor& f : factors_) {
       const auto& sizes = f.entry->cost->parameter_block_sizes();
       const Eigen::Map<const Eigen::VectorXd> r(residuals_.data() + f.residual_offset, f.residuals);
-      auto jacobian = [&](std::size_t b) {
-        const Variable& var = variables_[f.variables[b]];
-        return Eigen::Map<const RowMatrix>(jacobians_.data() + f.jacobian_offset[b], f.residuals, sizes[b])
+      auto jacobian = [&](int b) {
+        const Variable& var = variables_[blockVariable(f, b)];
+        return Eigen::Map<const RowMatrix>(jacobians_.data() + blockJacobian(f, b), f.residuals, sizes[b])
             .leftCols(var.tangent);
       };
       if (f.fixed_size) {
@@ -304,15 +323,15 @@ class ArrowProblem {
       }
       // The camera blocks side by side (m × K): one product for all their pairs.
       int width = 0;
-      for (const int v : f.variables) {
-        const Variable& var = variables_[v];
+      for (int b = 0; b < f.blocks; ++b) {
+        const Variable& var = variables_[blockVariable(f, b)];
         if (!var.constant && var.landmark < 0) width += var.tangent;
       }
       if (width > 0) {
         camera_jacobian_.resize(f.residuals, width);
         int col = 0;
-        for (std::size_t i = 0; i < f.variables.size(); ++i) {
-          const Variable& vi = variables_[f.variables[i]];
+        for (int i = 0; i < f.blocks; ++i) {
+          const Variable& vi = variables_[blockVariable(f, i)];
           if (vi.constant || vi.landmark >= 0) continue;
           camera_jacobian_.middleCols(col, vi.tangent) = jacobian(i);
           col += vi.tangent;
@@ -320,13 +339,13 @@ class ArrowProblem {
         camera_information_.noalias() = camera_jacobian_.transpose() * camera_jacobian_;
         camera_gradient_.noalias() = camera_jacobian_.transpose() * r;
         int ci = 0;
-        for (std::size_t i = 0; i < f.variables.size(); ++i) {
-          const Variable& vi = variables_[f.variables[i]];
+        for (int i = 0; i < f.blocks; ++i) {
+          const Variable& vi = variables_[blockVariable(f, i)];
           if (vi.constant || vi.landmark >= 0) continue;
           g_.segment(vi.offset, vi.tangent) += camera_gradient_.segment(ci, vi.tangent);
           int cj = 0;
-          for (std::size_t j = 0; j < f.variables.size(); ++j) {
-            const Variable& vj = variables_[f.variables[j]];
+          for (int j = 0; j < f.blocks; ++j) {
+            const Variable& vj = variables_[blockVariable(f, j)];
             if (vj.constant || vj.landmark >= 0) continue;
             if (vj.offset <= vi.offset)
               H_.block(vi.offset, vj.offset, vi.tangent, vj.tangent) +=
@@ -338,13 +357,13 @@ class ArrowProblem {
       }
       if (f.landmark < 0) continue;
       Landmark& lm = landmarks_[f.landmark];
-      const auto Jl = jacobian(static_cast<std::size_t>(f.landmark_block));
+      const auto Jl = jacobian(f.landmark_block);
       lm.V.noalias() += Jl.transpose() * Jl;
       lm.g.noalias() += Jl.transpose() * r;
-      for (std::size_t i = 0; i < f.variables.size(); ++i) {
-        if (f.slots[i] < 0) continue;
-        const Variable& vi = variables_[f.variables[i]];
-        lm.W[f.slots[i]].topRows(vi.tangent).noalias() += jacobian(i).transpose() * Jl;
+      for (int i = 0; i < f.blocks; ++i) {
+        if (blockSlot(f, i) < 0) continue;
+        const Variable& vi = variables_[blockVariable(f, i)];
+        lm.W[blockSlot(f, i)].topRows(vi.tangent).noalias() += jacobian(i).transpose() * Jl;
       }
     }
     // The projections fill the lower triangle only (the Cholesky factorization reads no more).
@@ -462,22 +481,22 @@ class ArrowProblem {
   void accumulateProjection(const Factor& f) {
     Eigen::Matrix<double, 2, 24> Jc;
     for (int b = 0; b < 4; ++b) {
-      const Eigen::Map<const RowMatrix> J(jacobians_.data() + f.jacobian_offset[b], 2,
-                                          variables_[f.variables[b]].ambient);
+      const Eigen::Map<const RowMatrix> J(jacobians_.data() + blockJacobian(f, b), 2,
+                                          variables_[blockVariable(f, b)].ambient);
       Jc.middleCols<6>(6 * b) = J.leftCols<6>();
     }
     const Eigen::Map<const Eigen::Vector2d> r(residuals_.data() + f.residual_offset);
-    const Eigen::Map<const Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> Jl(jacobians_.data() + f.jacobian_offset[4]);
+    const Eigen::Map<const Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> Jl(jacobians_.data() + blockJacobian(f, 4));
     Landmark& lm = landmarks_[f.landmark];
     lm.V.noalias() += Jl.transpose().lazyProduct(Jl);
     lm.g.noalias() += Jl.transpose().lazyProduct(r);
     for (int i = 0; i < 4; ++i) {
-      const int oi = variables_[f.variables[i]].offset;
+      const int oi = variables_[blockVariable(f, i)].offset;
       const auto Ji = Jc.middleCols<6>(6 * i);
       g_.segment<6>(oi).noalias() += Ji.transpose().lazyProduct(r);
-      lm.W[f.slots[i]].noalias() += Ji.transpose().lazyProduct(Jl);
+      lm.W[blockSlot(f, i)].noalias() += Ji.transpose().lazyProduct(Jl);
       for (int j = 0; j < 4; ++j) {
-        const int oj = variables_[f.variables[j]].offset;
+        const int oj = variables_[blockVariable(f, j)].offset;
         if (oj > oi) continue;
         H_.block<6, 6>(oi, oj).noalias() += Ji.transpose().lazyProduct(Jc.middleCols<6>(6 * j));
       }
@@ -488,13 +507,13 @@ class ArrowProblem {
   void accumulateLinearPrior(const Factor& f) {
     f.linear_prior->normalEquations(f.entry->blocks.data(), prior_information_, prior_gradient_);
     int ci = 0;
-    for (std::size_t i = 0; i < f.variables.size(); ++i) {
-      const Variable& vi = variables_[f.variables[i]];
+    for (int i = 0; i < f.blocks; ++i) {
+      const Variable& vi = variables_[blockVariable(f, i)];
       if (!vi.constant) {
         g_.segment(vi.offset, vi.tangent) += prior_gradient_.segment(ci, vi.tangent);
         int cj = 0;
-        for (std::size_t j = 0; j < f.variables.size(); ++j) {
-          const Variable& vj = variables_[f.variables[j]];
+        for (int j = 0; j < f.blocks; ++j) {
+          const Variable& vj = variables_[blockVariable(f, j)];
           if (!vj.constant && vj.offset <= vi.offset)
             H_.block(vi.offset, vj.offset, vi.tangent, vj.tangent) += prior_information_.block(ci, cj, vi.tangent, vj.tangent);
           cj += vj.tangent;
@@ -515,6 +534,9 @@ class ArrowProblem {
   std::vector<double>& jacobians_;
   std::vector<double>& saved_;
   std::vector<double>& factor_cost_;  ///< each factor's ½ρ(|r|²) of the latest evaluation
+  std::vector<int>& block_variables_;         ///< per block of every factor (Factor::first): its variable
+  std::vector<int>& block_jacobian_offsets_;  ///< its offset into jacobians_ (m × ambient, row-major); −1: constant
+  std::vector<int>& block_slots_;             ///< its slot among its landmark's camera blocks, or −1
   std::vector<int> eval_order_;      ///< factor indices in evaluation order (grouped by first block)
   std::vector<int> bounds_;          ///< the ranges of eval_order_ evaluated by one thread each
   Eigen::MatrixXd& H_;
