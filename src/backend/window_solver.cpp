@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -563,9 +564,12 @@ WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const s
                                 WindowSolverWorkspace* workspace) {
   const auto start = Clock::now();
   WindowSolverSummary summary;
-  WindowSolverWorkspace own;
-  ArrowProblem problem(factors, kinds, landmarks, constant, pose_manifold,
-                       (workspace ? *workspace : own).buffers());
+  std::unique_ptr<WindowSolverWorkspace> own;  // a solve without a workspace of the caller's
+  if (!workspace) {
+    own = std::make_unique<WindowSolverWorkspace>();
+    workspace = own.get();
+  }
+  ArrowProblem problem(factors, kinds, landmarks, constant, pose_manifold, workspace->buffers());
   summary.eliminated_landmarks = problem.eliminatedLandmarks();
   summary.reduced_dims = problem.reducedDims();
   summary.evaluation_threads = problem.evaluationThreads(options.threads);
