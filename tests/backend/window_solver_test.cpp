@@ -7,6 +7,7 @@
 
 #include <array>
 #include <memory>
+#include <string>
 
 #include "asynevo/backend/factors/gp_projection_factor.hpp"
 #include "asynevo/backend/factors/linear_prior_factor.hpp"
@@ -82,6 +83,16 @@ double maxPoseDifference(const GpBaState& a, const GpBaState& b) {
                         .cwiseAbs()
                         .maxCoeff());
   return d;
+}
+
+/// Every knot and landmark of `x` equal to `expected`'s bit for bit; `label` names the case in failures.
+void expectSameState(const GpBaState& x, const GpBaState& expected, const std::string& label) {
+  for (std::size_t k = 0; k < x.poses.size(); ++k) {
+    EXPECT_EQ(x.poses[k], expected.poses[k]) << label << ", knot " << k;
+    EXPECT_EQ(x.velocities[k], expected.velocities[k]) << label << ", knot " << k;
+  }
+  for (std::size_t l = 0; l < x.landmarks.size(); ++l)
+    EXPECT_EQ(x.landmarks[l], expected.landmarks[l]) << label << ", landmark " << l;
 }
 
 class WindowSolverTest : public ::testing::Test {
@@ -258,12 +269,7 @@ TEST_F(WindowSolverTest, FactorsEvaluatedOnSeveralThreadsGiveTheSameResultBitFor
     EXPECT_EQ(b.initial_cost, a.initial_cost) << threads;
     EXPECT_EQ(b.final_cost, a.final_cost) << threads;
     EXPECT_EQ(b.iterations, a.iterations) << threads;
-    for (std::size_t k = 0; k < x.poses.size(); ++k) {
-      EXPECT_EQ(x.poses[k], one.poses[k]) << threads << " threads, knot " << k;
-      EXPECT_EQ(x.velocities[k], one.velocities[k]) << threads << " threads, knot " << k;
-    }
-    for (std::size_t l = 0; l < x.landmarks.size(); ++l)
-      EXPECT_EQ(x.landmarks[l], one.landmarks[l]) << threads << " threads, landmark " << l;
+    expectSameState(x, one, std::to_string(threads) + " threads");
   }
 }
 
@@ -288,12 +294,7 @@ TEST_F(WindowSolverTest, AReusedWorkspaceGivesTheSameResultBitForBit) {
     EXPECT_EQ(b.final_cost, a.final_cost) << "smaller " << smaller;
     EXPECT_EQ(b.iterations, a.iterations) << "smaller " << smaller;
     EXPECT_EQ(b.reduced_dims, a.reduced_dims) << "smaller " << smaller;
-    for (std::size_t k = 0; k < fresh.poses.size(); ++k) {
-      EXPECT_EQ(reused.poses[k], fresh.poses[k]) << "smaller " << smaller << ", knot " << k;
-      EXPECT_EQ(reused.velocities[k], fresh.velocities[k]) << "smaller " << smaller << ", knot " << k;
-    }
-    for (std::size_t l = 0; l < fresh.landmarks.size(); ++l)
-      EXPECT_EQ(reused.landmarks[l], fresh.landmarks[l]) << "smaller " << smaller << ", landmark " << l;
+    expectSameState(reused, fresh, smaller ? "smaller window" : "whole window");
   }
 }
 
