@@ -136,9 +136,12 @@ void SlidingWindowEstimator::advanceTo(int64_t t_ns) {
     if (first_measurement_ns_ >= 0 && due) tryInitialize(t_ns);
     return;
   }
-  while (tracking_ && t_ns >= trajectory_.newestTime() + knot_dt_ns_) {
-    trajectory_.extendTo(trajectory_.newestTime() + knot_dt_ns_);
-    ++stats_.knots;
+  const int per_update = options_.config.knots_per_update;
+  while (tracking_ && t_ns >= trajectory_.newestTime() + per_update * knot_dt_ns_) {
+    for (int k = 0; k < per_update; ++k) {
+      trajectory_.extendTo(trajectory_.newestTime() + knot_dt_ns_);
+      ++stats_.knots;
+    }
     update(t_ns);
   }
 }
@@ -600,17 +603,27 @@ void SlidingWindowEstimator::triangulateTracks() {
   const DepthGate depth_gate = depthGate();
   const BackendConfig& c = options_.config;
   const TriangulationOptions tri = triangulationOptions();
+  // triangulation_views: in an open segment, the views after the latest solve's newest knot lie on knots
+  // predicted at constant velocity (TriangulationViews).
+  const TriangulationViews rule =
+      tracking_ && solved_until_ns_ >= 0 ? triangulationViewsFromName(c.triangulation_views) : TriangulationViews::kAll;
+  const std::size_t min_views = static_cast<std::size_t>(c.min_track_measurements);
   for (auto& [id, track] : tracks_) {
     if (track.triangulated) continue;
     std::vector<TriangulationView> views;
     for (const FixedView& v : track.fixed_views) views.push_back({v.T_w_c, v.xn});
+    std::size_t solved = views.size();  // the first `solved` views lie at or before solved_until_ns_
     for (const Observation& o : track.observations) {
-      if (trajectory_.covers(o.t_ns)) views.push_back({trajectory_.pose(o.t_ns), o.xn});
+      if (!trajectory_.covers(o.t_ns)) continue;
+      views.push_back({trajectory_.pose(o.t_ns), o.xn});
+      if (o.t_ns <= solved_until_ns_) solved = views.size();
     }
-    if (static_cast<int>(views.size()) < c.min_track_measurements) continue;
-    if (views.size() == track.observations_at_last_attempt) continue;  // nothing new since the last try
-    track.observations_at_last_attempt = views.size();
-    const TriangulationResult result = triangulate(views, tri);
+    // A trajectory is tried when it has enough views for its rule and a view was added since its last try.
+    const std::size_t usable = rule == TriangulationViews::kSolved ? solved : views.size();
+    if (usable < min_views) continue;
+    if (usable == track.observations_at_last_attempt) continue;
+    track.observations_at_last_attempt = usable;
+    const TriangulationResult result = triangulateTrajectory(views, solved, rule, min_views, tri);
     if (!result.p_w) {
       ++stats_.triangulation_failures[static_cast<std::size_t>(result.failure)];
       continue;
@@ -694,6 +707,7 @@ void SlidingWindowEstimator::buildFactors(std::vector<FactorEntry>& factors, std
 
 std::pair<int, double> SlidingWindowEstimator::solve(int max_iterations) {
   const auto build_start = Clock::now();
+  solved_until_ns_ = trajectory_.newestTime();
   std::vector<FactorEntry> factors;
   std::map<double*, BlockKind> kinds;
   buildFactors(factors, kinds, nullptr);
@@ -1055,9 +1069,12 @@ void SlidingWindowEstimator::splitDriftedTail(FeatureTrack& track,
 }
 
 void SlidingWindowEstimator::finish() {
-  while (tracking_ && last_event_ns_ > trajectory_.newestTime()) {  // cover the stream's tail with one more knot
-    trajectory_.extendTo(trajectory_.newestTime() + knot_dt_ns_);
-    ++stats_.knots;
+  // Cover the stream's tail with the knots still missing, and solve once more.
+  if (tracking_ && last_event_ns_ > trajectory_.newestTime()) {
+    while (last_event_ns_ > trajectory_.newestTime()) {
+      trajectory_.extendTo(trajectory_.newestTime() + knot_dt_ns_);
+      ++stats_.knots;
+    }
     update(last_event_ns_);
   }
   if (!tracking_) return;

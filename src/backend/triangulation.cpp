@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <stdexcept>
 
 namespace asynevo::backend {
 
@@ -103,6 +104,35 @@ TriangulationResult triangulate(const std::vector<TriangulationView>& views, con
   }
   result.p_w = p_w;
   return result;
+}
+
+TriangulationViews triangulationViewsFromName(const std::string& name) {
+  if (name == "all") return TriangulationViews::kAll;
+  if (name == "solved") return TriangulationViews::kSolved;
+  if (name == "solved_then_all") return TriangulationViews::kSolvedThenAll;
+  throw std::invalid_argument("unknown triangulation_views '" + name + "'");
+}
+
+TriangulationResult triangulateTrajectory(const std::vector<TriangulationView>& views, std::size_t solved,
+                                          TriangulationViews rule, std::size_t min_views,
+                                          const TriangulationOptions& options) {
+  const auto fromViews = [&](std::size_t n) {
+    if (n < min_views) {
+      TriangulationResult too_few;
+      too_few.failure = TriangulationFailure::kTooFewViews;
+      return too_few;
+    }
+    return n == views.size() ? triangulate(views, options)
+                             : triangulate(std::vector<TriangulationView>(views.begin(), views.begin() + n), options);
+  };
+  solved = std::min(solved, views.size());
+  if (rule == TriangulationViews::kAll || solved == views.size()) return fromViews(views.size());
+  if (rule == TriangulationViews::kSolved) return fromViews(solved);
+  TriangulationResult result = fromViews(solved);
+  if (result.p_w || (result.failure != TriangulationFailure::kTooFewViews &&
+                     result.failure != TriangulationFailure::kLowParallax))
+    return result;
+  return fromViews(views.size());
 }
 
 }  // namespace asynevo::backend

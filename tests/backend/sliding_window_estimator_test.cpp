@@ -118,6 +118,66 @@ TEST(SlidingWindowEstimator, ALooserFunctionToleranceEndsTheWindowSolvesSooner) 
   EXPECT_LT(acc.ate_rmse, 0.03 * acc.path_length) << "ATE " << acc.ate_rmse << " over " << acc.path_length;
 }
 
+TEST(SlidingWindowEstimator, TwoKnotsPerUpdateSolveHalfAsOftenAndKeepEveryKnot) {
+  // backend.knots_per_update 2: the window grows by two knots before each update, so it is solved half
+  // as often; the output still has one final knot every knot_dt, the window stays bounded, and it tracks.
+  const SyntheticScene scene(150);
+  const double duration = 2.5;
+  const auto measurements = scene.measurements(duration, 0.01, 0.4, 0.3);
+  EstimatorOptions every = defaultOptions();
+  every.config.window_solver = "builtin";
+  EstimatorOptions second = every;
+  second.config.knots_per_update = 2;
+  const RunResult a = runEstimator(measurements, duration, every);
+  const RunResult b = runEstimator(measurements, duration, second);
+  ASSERT_TRUE(b.stats.initialized) << b.stats.init_last_failure;
+  ASSERT_GT(a.records.size(), 30u);
+  // After the start, one update per two knots (the stream's tail adds one more).
+  EXPECT_NEAR(static_cast<double>(b.records.size()), 0.5 * static_cast<double>(a.records.size()), 2.0)
+      << b.records.size() << " updates against " << a.records.size();
+  for (std::size_t i = 1; i + 1 < b.records.size(); ++i)  // the last: the stream's tail, whenever it ends
+    EXPECT_GE(b.records[i].event_t_ns - b.records[i - 1].event_t_ns, std::llround(1.9 * every.config.knot_dt_ms * 1e6))
+        << i;
+  ASSERT_GT(b.knots.size(), 40u);
+  EXPECT_NEAR(static_cast<double>(b.knots.size()), static_cast<double>(a.knots.size()), 2.0);
+  for (std::size_t i = 1; i < b.knots.size(); ++i) {
+    ASSERT_EQ(b.knots[i].t_ns - b.knots[i - 1].t_ns, std::llround(every.config.knot_dt_ms * 1e6)) << i;
+    ASSERT_TRUE(b.knots[i].T_w_c().matrix().allFinite()) << i;
+  }
+  EXPECT_LE(b.stats.max_window_knots, second.config.window_max_knots);
+  const Accuracy acc = accuracy(b.knots);
+  const Accuracy reference = accuracy(a.knots);
+  EXPECT_LT(acc.ate_rmse, 0.015 * acc.path_length) << "ATE " << acc.ate_rmse << " over " << acc.path_length;
+  EXPECT_LT(acc.ate_rmse, 1.5 * reference.ate_rmse + 0.002)
+      << "ATE " << acc.ate_rmse << " against " << reference.ate_rmse << " solving at every knot";
+}
+
+TEST(SlidingWindowEstimator, EveryTriangulationViewsRuleTracksTheSyntheticScene) {
+  // backend.triangulation_views reaches the window's triangulation (the rules themselves:
+  // Triangulation.ATrajectoryIsTriangulatedFromTheViewsItsRuleAllows): each rule tracks, and leaving out
+  // the views on predicted knots changes the landmarks, so the trajectory.
+  const SyntheticScene scene(150);
+  const double duration = 2.5;
+  const auto measurements = scene.measurements(duration, 0.01, 0.4, 0.3);
+  std::map<std::string, RunResult> runs;
+  for (const char* rule : {"all", "solved", "solved_then_all"}) {
+    EstimatorOptions options = defaultOptions();
+    options.config.window_solver = "builtin";
+    options.config.triangulation_views = rule;
+    const RunResult run = runEstimator(measurements, duration, options);
+    ASSERT_TRUE(run.stats.initialized) << rule << ": " << run.stats.init_last_failure;
+    ASSERT_GT(run.knots.size(), 40u) << rule;
+    const Accuracy acc = accuracy(run.knots);
+    EXPECT_LT(acc.ate_rmse, 0.015 * acc.path_length) << rule << ": ATE " << acc.ate_rmse << " over " << acc.path_length;
+    runs.emplace(rule, run);
+  }
+  ASSERT_EQ(runs.at("all").knots.size(), runs.at("solved").knots.size());
+  bool differ = false;
+  for (std::size_t i = 0; i < runs.at("all").knots.size(); ++i)
+    differ = differ || runs.at("all").knots[i].pose != runs.at("solved").knots[i].pose;
+  EXPECT_TRUE(differ);
+}
+
 TEST(SlidingWindowEstimator, SameInputGivesIdenticalOutput) {
   const SyntheticScene scene(150);
   const auto measurements = scene.measurements(2.0, 0.01, 0.4, 0.3);

@@ -96,6 +96,46 @@ TEST(Triangulation, TheRmsTestAdmitsOnePoorViewAmongManyButNotAPoorTrajectory) {
   EXPECT_EQ(triangulate(views, rms).failure, TriangulationFailure::kHighError);
 }
 
+TEST(Triangulation, ATrajectoryIsTriangulatedFromTheViewsItsRuleAllows) {
+  // 8 exact views of a point at depth 4; the last 3 lie on knots added since the latest solve, and
+  // their camera poses are 20 cm off across the rays (as a constant-velocity prediction under
+  // acceleration can be): about 10 px.
+  const Eigen::Vector3d p_w(0.3, -0.2, 4.0);
+  std::vector<TriangulationView> views = exactViews(p_w, 8, 0.01, 0.05);
+  const std::size_t solved = 5;
+  for (std::size_t i = solved; i < views.size(); ++i)
+    views[i].T_w_c = lie::SE3(views[i].T_w_c.rotation(), views[i].T_w_c.translation() + Eigen::Vector3d(0, 0.2, 0));
+  TriangulationOptions options;
+  options.max_error = 0.015;  // 3 px at a focal length of 200 px
+  const TriangulationResult all = triangulateTrajectory(views, solved, TriangulationViews::kAll, 5, options);
+  EXPECT_EQ(all.failure, TriangulationFailure::kHighError);
+  for (const TriangulationViews rule : {TriangulationViews::kSolved, TriangulationViews::kSolvedThenAll}) {
+    const TriangulationResult r = triangulateTrajectory(views, solved, rule, 5, options);
+    ASSERT_TRUE(r.p_w) << triangulationFailureName(r.failure);
+    EXPECT_LT((*r.p_w - p_w).norm(), 1e-6);
+  }
+  // Too few solved views: `solved` waits, `solved_then_all` takes every view (here exact ones).
+  const std::vector<TriangulationView> exact = exactViews(p_w, 8, 0.01, 0.05);
+  EXPECT_EQ(triangulateTrajectory(exact, 3, TriangulationViews::kSolved, 5, options).failure,
+            TriangulationFailure::kTooFewViews);
+  const TriangulationResult fallback = triangulateTrajectory(exact, 3, TriangulationViews::kSolvedThenAll, 5, options);
+  ASSERT_TRUE(fallback.p_w) << triangulationFailureName(fallback.failure);
+  EXPECT_LT((*fallback.p_w - p_w).norm(), 1e-6);
+  // Too little parallax among the solved views but enough among all (cameras 1 cm apart): the same.
+  const std::vector<TriangulationView> slow = exactViews(p_w, 8, 0.01, 0.01);
+  options.min_parallax_deg = 0.8;
+  const TriangulationResult wide = triangulateTrajectory(slow, 8, TriangulationViews::kAll, 5, options);
+  ASSERT_GT(wide.parallax_deg, 0.8);
+  const TriangulationResult narrow = triangulateTrajectory(slow, 5, TriangulationViews::kSolved, 5, options);
+  ASSERT_LT(narrow.parallax_deg, 0.8);
+  EXPECT_EQ(narrow.failure, TriangulationFailure::kLowParallax);
+  EXPECT_TRUE(triangulateTrajectory(slow, 5, TriangulationViews::kSolvedThenAll, 5, options).p_w);
+  // The same when every view is solved; an unknown rule name is refused.
+  EXPECT_TRUE(triangulateTrajectory(exact, 8, TriangulationViews::kSolved, 5, options).p_w);
+  EXPECT_EQ(triangulationViewsFromName("solved_then_all"), TriangulationViews::kSolvedThenAll);
+  EXPECT_THROW(triangulationViewsFromName("some"), std::invalid_argument);
+}
+
 TEST(Trajectory, ConstantVelocityExtensionIsInterpolatedExactly) {
   Trajectory trajectory;
   lie::Vec6 w;

@@ -163,7 +163,7 @@ TEST(Config, TheDirectionAuditKeysAreCheckedWithTheirNames) {
   EXPECT_EQ(yamlError("backend:\n  direction_audit_restart_rule: same\n"), "accepted");
 }
 
-TEST(Config, TheTriangulationErrorIsCheckedWithItsName) {
+TEST(Config, TheTriangulationErrorAndViewsAreCheckedWithTheirNames) {
   for (const char* statistic : {"max", "rms"}) {
     Config config;
     applyConfigYaml(std::string("backend:\n  triangulation_error: ") + statistic + "\n", "x.yaml", config);
@@ -171,6 +171,21 @@ TEST(Config, TheTriangulationErrorIsCheckedWithItsName) {
   }
   EXPECT_NE(yamlError("backend:\n  triangulation_error: median\n").find("backend.triangulation_error = 'median'"),
             std::string::npos);
+  for (const char* rule : {"all", "solved", "solved_then_all"}) {
+    Config config;
+    applyConfigYaml(std::string("backend:\n  triangulation_views: ") + rule + "\n", "x.yaml", config);
+    EXPECT_EQ(config.backend.triangulation_views, rule);
+  }
+  EXPECT_NE(yamlError("backend:\n  triangulation_views: newest\n").find("backend.triangulation_views = 'newest'"),
+            std::string::npos);
+}
+
+TEST(Config, KnotsPerUpdateMustLeaveTheWindowItsLeastKnots) {
+  EXPECT_EQ(yamlError("backend:\n  knots_per_update: 2\n"), "accepted");
+  EXPECT_NE(yamlError("backend:\n  knots_per_update: 0\n").find("backend.knots_per_update = 0"), std::string::npos);
+  // More new knots per update than window_min_knots - 1 (8 - 1 by default) would outgrow the least window.
+  EXPECT_NE(yamlError("backend:\n  knots_per_update: 8\n").find("backend.knots_per_update = 8"), std::string::npos);
+  EXPECT_EQ(yamlError("backend:\n  window_min_knots: 10\n  knots_per_update: 8\n"), "accepted");
 }
 
 TEST(Config, AFeatureBudgetLargerThanTheSensorHoldsIsRejectedWithItsKeys) {

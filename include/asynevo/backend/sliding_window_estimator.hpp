@@ -206,6 +206,7 @@ class SlidingWindowEstimator : public Estimator {
   bool tracking_ = false;  ///< a segment is open (initialized and not lost since)
   int64_t reset_ns_ = std::numeric_limits<int64_t>::min();  ///< measurements before it are dropped
   int64_t last_supported_ns_ = 0;   ///< newest knot time with at least loss_min_landmarks landmarks
+  int64_t solved_until_ns_ = -1;    ///< newest knot time of the latest solve (-1: none yet)
   double segment_depth_ = 0;        ///< median landmark depth at the segment's start (0: not yet known)
   int audit_votes_ = 0;             ///< consecutive direction audits of this segment against it
   double last_median_residual_px_ = 0;  ///< of the window's measurements after the latest solve

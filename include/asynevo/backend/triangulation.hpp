@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "asynevo/lie/se3.hpp"
@@ -42,5 +43,22 @@ struct TriangulationResult {
 };
 
 TriangulationResult triangulate(const std::vector<TriangulationView>& views, const TriangulationOptions& options);
+
+/// Which of a trajectory's views a new landmark of an open segment is triangulated from
+/// (BackendConfig::triangulation_views). The window's newest knots, added since its latest solve, are a
+/// constant-velocity prediction, and under acceleration their poses can be pixels off.
+enum class TriangulationViews {
+  kAll,            ///< every view in the window
+  kSolved,         ///< the views up to the latest solve's newest knot only
+  kSolvedThenAll,  ///< those, and every view where they are too few or hold too little parallax
+};
+/// "all", "solved" or "solved_then_all" (a validated config value); throws std::invalid_argument otherwise.
+TriangulationViews triangulationViewsFromName(const std::string& name);
+
+/// triangulate() by `rule`: `views` in time order, of which the first `solved` lie at or before the
+/// latest solve's newest knot. Fewer than `min_views` views to triangulate from: kTooFewViews.
+TriangulationResult triangulateTrajectory(const std::vector<TriangulationView>& views, std::size_t solved,
+                                          TriangulationViews rule, std::size_t min_views,
+                                          const TriangulationOptions& options);
 
 }  // namespace asynevo::backend

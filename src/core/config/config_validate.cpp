@@ -92,12 +92,17 @@ void BackendConfig::validate() const {
   if (triangulation_error != "max" && triangulation_error != "rms")
     throw ConfigError(fmt::format("configuration value backend.triangulation_error = '{}' is not one of max, rms",
                                   triangulation_error));
+  if (triangulation_views != "all" && triangulation_views != "solved" && triangulation_views != "solved_then_all")
+    throw ConfigError(fmt::format(
+        "configuration value backend.triangulation_views = '{}' is not one of all, solved, solved_then_all",
+                                  triangulation_views));
   requireRange("backend.pixel_bounds_focal_px", pixel_bounds_focal_px, 0.0, 1e6);
   requireRange("backend.min_depth", min_depth, 0.0, 1e6);
   if (landmark_depth_range != 0.0)
     requireRange("backend.landmark_depth_range", landmark_depth_range, 1.5, 1e6);
   requireRange("backend.window_min_knots", window_min_knots, 3, 10000);
   requireRange("backend.window_max_knots", window_max_knots, window_min_knots, 10000);
+  requireRange("backend.knots_per_update", knots_per_update, 1, window_min_knots - 1);
   requireRange("backend.marginalization_epsilon", marginalization_epsilon, 0.0, 1.0);
   requireRange("backend.scale_anchor_sigma", scale_anchor_sigma, 0.0, 1.0);
   if (forced_marginalization != "fixed_poses" && forced_marginalization != "prior" && forced_marginalization != "drop")

@@ -36,6 +36,12 @@ struct BackendConfig {
   /// Which reprojection error of a fresh triangulation max_triangulation_px bounds: "max", the largest
   /// over its views, or "rms", their RMS (as track_outlier_rms_px bounds a landmark's after a solve).
   std::string triangulation_error = "max";
+  /// Which views of a trajectory a new landmark is triangulated from while a segment is open: "all" its
+  /// measurements in the window, "solved" those at times the latest solve covered (the knots added since
+  /// are predicted at constant velocity, and their poses can be off under acceleration), or
+  /// "solved_then_all": solved, then all where those are too few or hold too little parallax
+  /// (TriangulationViews in triangulation.hpp).
+  std::string triangulation_views = "all";
   /// Resolution rule for the window's pixel bounds (huber_px, outlier_px, track_outlier_rms_px,
   /// track_split_px, max_triangulation_px, loss_max_median_px): > 0, they are given for a camera of this
   /// focal length and a camera of a longer one scales them by its focal length / this value (they are
@@ -51,6 +57,9 @@ struct BackendConfig {
   // --- window ---
   int window_min_knots = 8;     ///< N_min: dynamic marginalization keeps at least this many knots
   int window_max_knots = 20;    ///< N_max: past this the oldest knot is marginalized anyway
+  /// The window is extended by this many knots (knot_dt apart) before each update, so it is solved once
+  /// per this many knots: fewer solves per second of events, the newest estimate that much later.
+  int knots_per_update = 1;
   double marginalization_epsilon = 0.8;  ///< t_ε = (1 − ε) t_0 + ε t_N (paper Alg. 1: 0.8)
   double scale_anchor_sigma = 0.1;       ///< relative σ of the renewed scale anchor (0 disables renewal)
   /// The WNOA prior exerts no force along the monocular scale (WnoaPriorFactor's scale-free mode).
@@ -188,6 +197,10 @@ struct BackendConfig {
     v("max_triangulation_px", max_triangulation_px, "maximum reprojection error of a new landmark [px]");
     v("triangulation_error", triangulation_error,
       "which error of a new landmark max_triangulation_px bounds: max (over its views) or rms");
+    v("triangulation_views", triangulation_views,
+      "the views a new landmark is triangulated from in an open segment: all (in the window), solved (at "
+      "times the latest solve covered, not the knots predicted since) or solved_then_all (solved, then all "
+      "where those are too few or hold too little parallax)");
     v("pixel_bounds_focal_px", pixel_bounds_focal_px,
       "resolution rule: the window's pixel bounds are for a camera of this focal length; a longer one scales "
       "them by its focal length / this [px] (0 = the sensor's own pixels)");
@@ -196,6 +209,9 @@ struct BackendConfig {
       "landmarks beyond this factor of the median landmark depth, either way, are not kept (0 = off)");
     v("window_min_knots", window_min_knots, "N_min: the window keeps at least this many knots");
     v("window_max_knots", window_max_knots, "N_max: beyond this the oldest knot is marginalized anyway");
+    v("knots_per_update", knots_per_update,
+      "the window grows by this many knots before each update (triangulate, marginalize, solve): one "
+      "solve per this many knots");
     v("marginalization_epsilon", marginalization_epsilon, "t_eps = (1 - eps) t_0 + eps t_N (paper: 0.8)");
     v("scale_anchor_sigma", scale_anchor_sigma,
       "relative sigma of the scale anchor renewed in the window once the initial one is marginalized (0 = off)");
