@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <random>
 #include <set>
@@ -25,6 +26,16 @@ RunResult runEstimator(const std::vector<TrackMeasurement>& measurements, double
 }
 
 EstimatorOptions defaultOptions() { return testing::syntheticSceneOptions(); }
+
+/// The builtin solver on `duration` s of the 150-point synthetic scene (a measurement every 10 ms,
+/// features living 0.4 s, 0.3 px of noise), the defaults changed by `change`.
+RunResult runBuiltin(double duration, const std::function<void(BackendConfig&)>& change = {}) {
+  static const SyntheticScene scene(150);
+  EstimatorOptions options = defaultOptions();
+  options.config.window_solver = "builtin";
+  if (change) change(options.config);
+  return runEstimator(scene.measurements(duration, 0.01, 0.4, 0.3), duration, options);
+}
 
 /// The same final knots, bit for bit.
 void expectSameKnots(const RunResult& a, const RunResult& b) {
@@ -96,15 +107,8 @@ TEST(SlidingWindowEstimator, TheBuiltinSolverTracksAsCeresDoesAndIsDeterministic
 TEST(SlidingWindowEstimator, ALooserFunctionToleranceEndsTheWindowSolvesSooner) {
   // backend.function_tolerance reaches the window solver: at 1e-2 a solve ends once a step changes the
   // cost by 1 % or less, so the updates take fewer iterations than at the default 1e-6, and still track.
-  const SyntheticScene scene(150);
-  const double duration = 2.0;
-  const auto measurements = scene.measurements(duration, 0.01, 0.4, 0.3);
-  EstimatorOptions loose = defaultOptions();
-  loose.config.window_solver = "builtin";
-  EstimatorOptions tight = loose;
-  loose.config.function_tolerance = 1e-2;
-  const RunResult a = runEstimator(measurements, duration, tight);
-  const RunResult b = runEstimator(measurements, duration, loose);
+  const RunResult a = runBuiltin(2.0);
+  const RunResult b = runBuiltin(2.0, [](BackendConfig& c) { c.function_tolerance = 1e-2; });
   ASSERT_TRUE(b.stats.initialized) << b.stats.init_last_failure;
   auto meanIterations = [](const RunResult& run) {
     double sum = 0.0;
@@ -121,30 +125,24 @@ TEST(SlidingWindowEstimator, ALooserFunctionToleranceEndsTheWindowSolvesSooner) 
 TEST(SlidingWindowEstimator, TwoKnotsPerUpdateSolveHalfAsOftenAndKeepEveryKnot) {
   // backend.knots_per_update 2: the window grows by two knots before each update, so it is solved half
   // as often; the output still has one final knot every knot_dt, the window stays bounded, and it tracks.
-  const SyntheticScene scene(150);
-  const double duration = 2.5;
-  const auto measurements = scene.measurements(duration, 0.01, 0.4, 0.3);
-  EstimatorOptions every = defaultOptions();
-  every.config.window_solver = "builtin";
-  EstimatorOptions second = every;
-  second.config.knots_per_update = 2;
-  const RunResult a = runEstimator(measurements, duration, every);
-  const RunResult b = runEstimator(measurements, duration, second);
+  const RunResult a = runBuiltin(2.5);
+  const RunResult b = runBuiltin(2.5, [](BackendConfig& c) { c.knots_per_update = 2; });
+  const BackendConfig defaults = defaultOptions().config;
   ASSERT_TRUE(b.stats.initialized) << b.stats.init_last_failure;
   ASSERT_GT(a.records.size(), 30u);
   // After the start, one update per two knots (the stream's tail adds one more).
   EXPECT_NEAR(static_cast<double>(b.records.size()), 0.5 * static_cast<double>(a.records.size()), 2.0)
       << b.records.size() << " updates against " << a.records.size();
   for (std::size_t i = 1; i + 1 < b.records.size(); ++i)  // the last: the stream's tail, whenever it ends
-    EXPECT_GE(b.records[i].event_t_ns - b.records[i - 1].event_t_ns, std::llround(1.9 * every.config.knot_dt_ms * 1e6))
+    EXPECT_GE(b.records[i].event_t_ns - b.records[i - 1].event_t_ns, std::llround(1.9 * defaults.knot_dt_ms * 1e6))
         << i;
   ASSERT_GT(b.knots.size(), 40u);
   EXPECT_NEAR(static_cast<double>(b.knots.size()), static_cast<double>(a.knots.size()), 2.0);
   for (std::size_t i = 1; i < b.knots.size(); ++i) {
-    ASSERT_EQ(b.knots[i].t_ns - b.knots[i - 1].t_ns, std::llround(every.config.knot_dt_ms * 1e6)) << i;
+    ASSERT_EQ(b.knots[i].t_ns - b.knots[i - 1].t_ns, std::llround(defaults.knot_dt_ms * 1e6)) << i;
     ASSERT_TRUE(b.knots[i].T_w_c().matrix().allFinite()) << i;
   }
-  EXPECT_LE(b.stats.max_window_knots, second.config.window_max_knots);
+  EXPECT_LE(b.stats.max_window_knots, defaults.window_max_knots);
   const Accuracy acc = accuracy(b.knots);
   const Accuracy reference = accuracy(a.knots);
   EXPECT_LT(acc.ate_rmse, 0.015 * acc.path_length) << "ATE " << acc.ate_rmse << " over " << acc.path_length;
@@ -156,15 +154,9 @@ TEST(SlidingWindowEstimator, EveryTriangulationViewsRuleTracksTheSyntheticScene)
   // backend.triangulation_views reaches the window's triangulation (the rules themselves:
   // Triangulation.ATrajectoryIsTriangulatedFromTheViewsItsRuleAllows): each rule tracks, and leaving out
   // the views on predicted knots changes the landmarks, so the trajectory.
-  const SyntheticScene scene(150);
-  const double duration = 2.5;
-  const auto measurements = scene.measurements(duration, 0.01, 0.4, 0.3);
   std::map<std::string, RunResult> runs;
   for (const char* rule : {"all", "solved", "solved_then_all"}) {
-    EstimatorOptions options = defaultOptions();
-    options.config.window_solver = "builtin";
-    options.config.triangulation_views = rule;
-    const RunResult run = runEstimator(measurements, duration, options);
+    const RunResult run = runBuiltin(2.5, [&](BackendConfig& c) { c.triangulation_views = rule; });
     ASSERT_TRUE(run.stats.initialized) << rule << ": " << run.stats.init_last_failure;
     ASSERT_GT(run.knots.size(), 40u) << rule;
     const Accuracy acc = accuracy(run.knots);

@@ -259,6 +259,10 @@ TEST(StartScenarios, AStartWithTooFewLandmarksAgainstItsKnotsTriangulatesFromIts
     EstimatorOptions options = testing::syntheticSceneOptions();
     options.config.init_two_view_landmarks = two_view_landmarks;
     options.config.init_relax_after_ms = 500;  // the wait this scenario was measured with
+    // ... and the window's triangulation: with solved_then_all (the default since 2026-12-07) the window
+    // recovers more slowly from this start, ATE 6.2 % of the path against 2.4 %
+    // (docs/results/window_landmarks.md).
+    options.config.triangulation_views = "all";
     SlidingWindowEstimator estimator(options);
     return testing::driveEstimator(estimator, ms, 3.0);
   };

@@ -33,9 +33,11 @@ reversed_percent() {  # the evaluation's share of knots from ${3:-0.6} s on trav
 for rule in keep compare confirm reversal audit; do
   mkdir -p "$work/$rule/run" "$work/$rule/eval"
   cp "$data/run/tracks.txt" "$data/run/backend_feed.txt" "$work/$rule/run/"
-  # The rules of the start are measured without the direction audit; the audit with the defaults.
-  setting="init_weak_two_view: $rule\n  direction_audit: off"
-  [ "$rule" = reversal ] && setting="init_depth_reversal: wait\n  direction_audit: off"
+  # The rules of the start are measured without the direction audit and with the window's triangulation
+  # from all views (triangulation_views: all; with solved_then_all the confirm start's window keeps
+  # travelling in reverse, docs/results/window_landmarks.md); the audit with the defaults.
+  setting="init_weak_two_view: $rule\n  direction_audit: off\n  triangulation_views: all"
+  [ "$rule" = reversal ] && setting="init_depth_reversal: wait\n  direction_audit: off\n  triangulation_views: all"
   [ "$rule" = audit ] && setting="direction_audit: restart"
   sed "s/^backend:\$/backend:\n  $setting/" "$data/run/config.yaml" > "$work/$rule/run/config.yaml"
   "$replay" "$work/$rule/run" "$data/sequence" "$work/$rule/traj.txt" > "$work/$rule/replay.log" 2>&1 ||

@@ -41,7 +41,7 @@ struct BackendConfig {
   /// are predicted at constant velocity, and their poses can be off under acceleration), or
   /// "solved_then_all": solved, then all where those are too few or hold too little parallax
   /// (TriangulationViews in triangulation.hpp).
-  std::string triangulation_views = "all";
+  std::string triangulation_views = "solved_then_all";
   /// Resolution rule for the window's pixel bounds (huber_px, outlier_px, track_outlier_rms_px,
   /// track_split_px, max_triangulation_px, loss_max_median_px): > 0, they are given for a camera of this
   /// focal length and a camera of a longer one scales them by its focal length / this value (they are
