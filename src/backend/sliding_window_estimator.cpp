@@ -54,6 +54,7 @@ SlidingWindowEstimator::SlidingWindowEstimator(const EstimatorOptions& options)
       solver_workspace_(std::make_unique<WindowSolverWorkspace>()),
       final_velocity_(std::max(options.config.linear_velocity_span_knots, 0)) {
   options_.config.validate();
+  triangulation_views_ = triangulationViewsFromName(options_.config.triangulation_views);
   if (options_.config.pixel_bounds_focal_px > 0) {  // the bounds are angles above the reference focal length
     BackendConfig& c = options_.config;
     const double scale = std::max(1.0, options_.focal_px / c.pixel_bounds_focal_px);
@@ -605,8 +606,7 @@ void SlidingWindowEstimator::triangulateTracks() {
   const TriangulationOptions tri = triangulationOptions();
   // triangulation_views: in an open segment, the views after the latest solve's newest knot lie on knots
   // predicted at constant velocity (TriangulationViews).
-  const TriangulationViews rule =
-      tracking_ && solved_until_ns_ >= 0 ? triangulationViewsFromName(c.triangulation_views) : TriangulationViews::kAll;
+  const TriangulationViews rule = tracking_ && solved_until_ns_ >= 0 ? triangulation_views_ : TriangulationViews::kAll;
   const std::size_t min_views = static_cast<std::size_t>(c.min_track_measurements);
   for (auto& [id, track] : tracks_) {
     if (track.triangulated) continue;

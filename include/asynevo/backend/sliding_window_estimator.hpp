@@ -181,6 +181,7 @@ class SlidingWindowEstimator : public Estimator {
   EstimatorOptions options_;
   int64_t knot_dt_ns_;
   int64_t measurement_dt_ns_;  ///< config.track_measurement_dt_ms
+  TriangulationViews triangulation_views_ = TriangulationViews::kAll;  ///< config.triangulation_views
   Eigen::Matrix<double, 6, 6> Q_c_;
   std::unique_ptr<ceres::Manifold> se3_manifold_;
   std::unique_ptr<WindowSolverWorkspace> solver_workspace_;  ///< the builtin solver's buffers, reused
