@@ -5,6 +5,7 @@
 //
 //   bench_replay_tracks RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental]
 //                       [--seed N] [--dump-errors FILE] [--skip-ms MS] [--window-solver ceres|builtin]
+//                       [--oracle-cut PX] [--oracle-scale F]
 //
 // Writes OUT_TRAJ (TUM, as the run's stamped_traj_estimate.txt), OUT_TRAJ.velocities.txt (as its
 // velocities.txt), OUT_TRAJ.segments.txt (as its segments.txt), OUT_TRAJ.updates.csv (the update
@@ -13,6 +14,11 @@
 // --oracle: positions of features on a fixed scene point replaced by their projection plus Gaussian
 // noise; features born on a depth discontinuity (no fixed 3D point) keep their measured positions.
 // --drop-edges: features born on a depth discontinuity, or whose point leaves the view, are skipped.
+// --oracle-cut PX: a feature on a fixed scene point loses its measurements from the first one more than
+// PX from the truth on (what a test that ended every track at its first gross error would give).
+// --oracle-scale F: the error of every measurement of a feature on a fixed scene point is multiplied by F
+// (pixel = truth + F (measured - truth)): what uniformly better (F < 1) tracks of the same features give.
+// Both measure the error against the ray of the feature's first measurement, as frontend_eval does.
 // --skip-ms: measurements in the first MS milliseconds after the first one are skipped, as if the
 // recording had begun that much later (for the frontend's tracks as they were): the start comes from other
 // windows of the same tracks. How much a sequence's result depends on when its start happens
@@ -37,6 +43,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <set>
 #include <optional>
 #include <random>
 #include <sstream>
@@ -66,21 +73,36 @@ struct Args {
   std::string dump_errors;  ///< --dump-errors FILE: measured vs exact pixel of every fixed-point measurement
   double skip_ms = 0;       ///< --skip-ms: measurements this long after the first are not fed
   std::string window_solver;  ///< --window-solver: overrides the run's backend.window_solver
+  std::optional<double> oracle_cut_px;  ///< --oracle-cut
+  std::optional<double> oracle_scale;   ///< --oracle-scale
 };
 
 Args parse(int argc, char** argv) {
   if (argc < 4) {
     std::fprintf(stderr,
                  "usage: %s RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental] "
-                 "[--seed N] [--dump-errors FILE] [--skip-ms MS] [--window-solver ceres|builtin]\n",
+                 "[--seed N] [--dump-errors FILE] [--skip-ms MS] [--window-solver ceres|builtin] "
+                 "[--oracle-cut PX] [--oracle-scale F]\n",
                  argv[0]);
     std::exit(2);
   }
-  Args a{argv[1], argv[2], argv[3], std::nullopt, false, false, 1, {}, 0.0, {}};
+  Args a{argv[1], argv[2], argv[3], std::nullopt, false, false, 1, {}, 0.0, {}, std::nullopt, std::nullopt};
+  auto positive = [&](int i) {
+    const double v = std::stod(argv[i]);
+    if (!(v >= 0)) {
+      std::fprintf(stderr, "%s %s: not a number >= 0\n", argv[i - 1], argv[i]);
+      std::exit(2);
+    }
+    return v;
+  };
   for (int i = 4; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "--oracle" && i + 1 < argc) {
       a.oracle_noise_px = std::stod(argv[++i]);
+    } else if (flag == "--oracle-cut" && i + 1 < argc) {
+      a.oracle_cut_px = positive(++i);
+    } else if (flag == "--oracle-scale" && i + 1 < argc) {
+      a.oracle_scale = positive(++i);
     } else if (flag == "--drop-edges") {
       a.drop_edges = true;
     } else if (flag == "--incremental") {
@@ -181,7 +203,8 @@ int main(int argc, char** argv) try {
   // The frontend's undistortion (the same table, bilinear): normalized coordinates as the backend got them.
   const UndistortionTable<float> undistortion = camera.undistortionTable<float>();
   std::optional<sim::FeatureGroundTruth> truth;
-  if (args.oracle_noise_px || args.drop_edges || !args.dump_errors.empty())
+  if (args.oracle_noise_px || args.drop_edges || !args.dump_errors.empty() || args.oracle_cut_px ||
+      args.oracle_scale)
     truth.emplace(sim::loadSimulatedGroundTruth(args.dataset));
 
   backend::EstimatorOptions options;
@@ -207,6 +230,8 @@ int main(int argc, char** argv) try {
   std::mt19937 rng(args.seed);
   std::normal_distribution<double> noise(0.0, args.oracle_noise_px.value_or(0.0));
   std::map<int64_t, sim::FeatureGroundTruth::Anchor> anchors;
+  std::set<int64_t> cut_features;  // --oracle-cut: features past their first gross error
+  uint64_t cut = 0;
   std::string last_failure;
   auto advance = [&](int64_t marker) {
     estimator->advanceTo(marker);
@@ -266,6 +291,13 @@ int main(int argc, char** argv) try {
                             projection.pixel.x(), projection.pixel.y());
       if (fixed_point && args.oracle_noise_px)
         pixel = projection.pixel + Eigen::Vector2d(noise(rng), noise(rng));
+      if (fixed_point && args.oracle_cut_px &&
+          (cut_features.count(id) > 0 || (pixel - projection.pixel).norm() > *args.oracle_cut_px)) {
+        cut_features.insert(id);
+        ++cut;
+        continue;
+      }
+      if (fixed_point && args.oracle_scale) pixel = projection.pixel + *args.oracle_scale * (pixel - projection.pixel);
     }
     m.x = static_cast<float>(pixel.x());
     m.y = static_cast<float>(pixel.y());
@@ -334,6 +366,9 @@ int main(int argc, char** argv) try {
       estimator->name(), fed, skipped, trajectory.size(), stats.initialized, stats.initialized_at_ns * 1e-9,
       stats.init_attempts);
   if (stats.initialized) fmt::print("initial views {}\n", backend::describeInitViews(stats.init_views));
+  if (args.oracle_cut_px)
+    fmt::print("oracle cut: {} measurements of {} features dropped at their first error above {} px\n", cut,
+               cut_features.size(), *args.oracle_cut_px);
   fmt::print(
       "landmarks {} (marginalized {}), tracks rejected {}, split {}, outliers {}, observations marginalized {}, "
       "dropped {} (forced) {} (untriangulated), scale anchors {}, depth gate {} rejected {} reset\n",

@@ -24,6 +24,7 @@
 #include "asynevo/frontend/frontend.hpp"
 #include "asynevo/frontend/rotation_check.hpp"
 #include "asynevo/io/calibration_io.hpp"
+#include "asynevo/io/dataset.hpp"
 #include "asynevo/io/event_reader.hpp"
 #include "asynevo/io/trajectory_io.hpp"
 #include "asynevo/sim/feature_ground_truth.hpp"
@@ -91,8 +92,8 @@ void printErrorByAge(const sim::FeatureAccuracy& r) {
 }
 
 void printAccuracy(const std::vector<TrackMeasurement>& measurements, const sim::FeatureGroundTruth& gt,
-                   int worst) {
-  const sim::FeatureAccuracy r = sim::evaluateFeatureTracks(measurements, gt);
+                   int worst, const sim::FeatureAccuracyOptions& accuracy) {
+  const sim::FeatureAccuracy r = sim::evaluateFeatureTracks(measurements, gt, accuracy);
   fmt::print("{}", r.summary());
   // Per texture of the anchor planes: median error, bad tracks.
   std::map<std::string, std::pair<std::vector<double>, std::pair<int, int>>> per_texture;
@@ -174,7 +175,8 @@ void printEndings(const frontend::MeasurementCollector& out, const sim::FeatureA
     fmt::print("  {:<14} {:4d} / {:4d} (of {:4d}) / {:4d}\n", name, c.ended, c.wrong, c.evaluated, c.replaced);
 }
 
-void evaluateSimulated(const Config& config, const std::string& spec, int worst) {
+void evaluateSimulated(const Config& config, const std::string& spec, int worst,
+                       const sim::FeatureAccuracyOptions& accuracy) {
   // SCENE:MOTION:SECONDS[:SEED]
   std::vector<std::string> parts;
   std::size_t start = 0;
@@ -190,8 +192,8 @@ void evaluateSimulated(const Config& config, const std::string& spec, int worst)
   const frontend::MeasurementCollector& out = run.out;
   fmt::print("== simulated {} ({:.2f} s, seed {}, {} events)\n{}", s.name, std::stod(parts[2]), seed,
              s.events.size(), run.stats.summary());
-  printAccuracy(out.measurements, *s.ground_truth, worst);
-  printEndings(out, sim::evaluateFeatureTracks(out.measurements, *s.ground_truth));
+  printAccuracy(out.measurements, *s.ground_truth, worst, accuracy);
+  printEndings(out, sim::evaluateFeatureTracks(out.measurements, *s.ground_truth, accuracy));
 }
 
 }  // namespace
@@ -201,6 +203,7 @@ int main(int argc, char** argv) try {
   bool accel = false;
   std::string tracks_path;
   int worst = 0;
+  sim::FeatureAccuracyOptions accuracy;
   std::vector<std::string> dirs;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -214,12 +217,14 @@ int main(int argc, char** argv) try {
       dirs.push_back(std::string("@sim:") + argv[++i]);
     } else if (a == "--worst" && i + 1 < argc) {
       worst = std::stoi(argv[++i]);
+    } else if (a == "--time-offset-ms" && i + 1 < argc) {
+      accuracy.time_offset_ns = std::llround(std::stod(argv[++i]) * 1e6);
     } else if (a == "--tracks" && i + 1 < argc) {
       tracks_path = argv[++i];
     } else if (a == "-h" || a.rfind("--", 0) == 0) {  // --help, or a flag unknown or without its value
       const bool help = a == "--help" || a == "-h";
       fmt::print(help ? stdout : stderr,
-                 "usage: frontend_eval [--yaml YAML] [--accel] [--tracks FILE] [--worst N] "
+                 "usage: frontend_eval [--yaml YAML] [--accel] [--tracks FILE] [--worst N] [--time-offset-ms MS] "
                  "(DIR | --sim SCENE:MOTION:SECONDS[:SEED] | --synthetic)...\n");
       return help ? 0 : 2;
     } else {
@@ -232,17 +237,18 @@ int main(int argc, char** argv) try {
       continue;
     }
     if (dir.rfind("@sim:", 0) == 0) {
-      evaluateSimulated(config, dir.substr(5), worst);
+      evaluateSimulated(config, dir.substr(5), worst, accuracy);
       continue;
     }
-    const std::vector<Event> events = readAllEvents(dir + "/events.txt");
+    const DatasetFiles files = resolveDataset(dir);  // events.aevt, events.txt, ...
+    const std::vector<Event> events = readAllEvents(files.events);
     const CameraModel camera = readEcdCalibration(dir + "/calib.txt");
     const bench::FrontendRun run = bench::runFrontend(config.frontend, events, camera.width(), camera.height(),
                                                       camera.undistortionTable<float>());
     const frontend::MeasurementCollector& out = run.out;
     fmt::print("== {}\n{}", dir, run.stats.summary());
     if (sim::isSimulatedDataset(dir)) {
-      printAccuracy(out.measurements, sim::loadSimulatedGroundTruth(dir), worst);
+      printAccuracy(out.measurements, sim::loadSimulatedGroundTruth(dir), worst, accuracy);
       continue;
     }
     if (!tracks_path.empty()) {

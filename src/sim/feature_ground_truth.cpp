@@ -201,13 +201,14 @@ FeatureAccuracy evaluateFeatureTracks(const std::vector<TrackMeasurement>& measu
     t.last_ns = ms.back()->t_ns;
     t.measurements = static_cast<int>(ms.size());
     const FeatureGroundTruth::Anchor a =
-        ground_truth.anchor(t.first_ns, Eigen::Vector2d(ms.front()->x, ms.front()->y));
+        ground_truth.anchor(t.first_ns + options.time_offset_ns, Eigen::Vector2d(ms.front()->x, ms.front()->y));
     t.anchored = a.valid;
     t.depth_edge = a.depth_edge;
     t.plane = a.plane;
     if (a.valid) {
       for (std::size_t i = 1; i < ms.size(); ++i) {
-        const FeatureGroundTruth::Projection p = ground_truth.project(a.p_w, ms[i]->t_ns);
+        const int64_t t_true = ms[i]->t_ns + options.time_offset_ns;
+        const FeatureGroundTruth::Projection p = ground_truth.project(a.p_w, t_true);
         const double e = p.valid ? (p.pixel - Eigen::Vector2d(ms[i]->x, ms[i]->y)).norm()
                                  : std::numeric_limits<double>::infinity();
         t.errors_px.push_back(e);
@@ -215,8 +216,8 @@ FeatureAccuracy evaluateFeatureTracks(const std::vector<TrackMeasurement>& measu
         if (p.valid) {
           // Direction of the image motion from the projections 1 ms either side.
           constexpr int64_t kHalfStep = 1'000'000;
-          const FeatureGroundTruth::Projection before = ground_truth.project(a.p_w, ms[i]->t_ns - kHalfStep);
-          const FeatureGroundTruth::Projection after = ground_truth.project(a.p_w, ms[i]->t_ns + kHalfStep);
+          const FeatureGroundTruth::Projection before = ground_truth.project(a.p_w, t_true - kHalfStep);
+          const FeatureGroundTruth::Projection after = ground_truth.project(a.p_w, t_true + kHalfStep);
           const Eigen::Vector2d motion = after.pixel - before.pixel;
           if (before.valid && after.valid && motion.norm() > 2e-3)  // > 1 px/s
             t.along_motion_px.push_back(

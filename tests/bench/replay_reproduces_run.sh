@@ -54,3 +54,25 @@ if ! grep -q "fed $lines measurements (0 skipped)" "$work/older.log"; then
   exit 1
 fi
 echo "a measurement older than the first line is fed: $lines of $lines"
+# The oracle diagnostics: --oracle-scale 1 and a cut no error reaches change nothing; --oracle-scale 0
+# gives the exact positions that --oracle 0 gives; a 0.3 px cut drops measurements.
+"$replay" "$work/run" "$work/sequence" "$work/scale1.txt" --oracle-scale 1 > "$work/scale1.log"
+"$replay" "$work/run" "$work/sequence" "$work/nocut.txt" --oracle-cut 1000 > "$work/nocut.log"
+for f in scale1 nocut; do
+  grep -v '^#' "$work/$f.txt" > "$work/${f}_traj.txt"
+  cmp "$work/run_traj.txt" "$work/${f}_traj.txt"
+done
+"$replay" "$work/run" "$work/sequence" "$work/scale0.txt" --oracle-scale 0 > "$work/scale0.log"
+"$replay" "$work/run" "$work/sequence" "$work/exact.txt" --oracle 0 > "$work/exact.log"
+cmp "$work/scale0.txt" "$work/exact.txt"
+grep -v '^#' "$work/exact.txt" > "$work/exact_traj.txt"
+if cmp -s "$work/run_traj.txt" "$work/exact_traj.txt"; then
+  echo "FAIL: the exact positions gave the run's trajectory" >&2
+  exit 1
+fi
+"$replay" "$work/run" "$work/sequence" "$work/cut.txt" --oracle-cut 0.3 > "$work/cut.log"
+if ! grep -Eq "oracle cut: [1-9][0-9]* measurements of [1-9][0-9]* features" "$work/cut.log"; then
+  echo "FAIL: --oracle-cut 0.3 cut nothing: $(grep 'oracle cut' "$work/cut.log")" >&2
+  exit 1
+fi
+echo "oracle diagnostics: scale 1 and an unreached cut reproduce the run; $(grep 'oracle cut' "$work/cut.log")"

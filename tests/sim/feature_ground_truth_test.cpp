@@ -189,6 +189,44 @@ TEST(FeatureAccuracy, SignsTheErrorAlongTheMotion) {
   EXPECT_NE(r.summary().find("median error along the motion -0.150 px"), std::string::npos) << r.summary();
 }
 
+TEST(FeatureAccuracy, ATimeOffsetComparesWithTheTruthAtAnotherTime) {
+  // An accelerating camera (x = a t^2 / 2, a = 20 m/s^2) before a wall 2 m away; at constant velocity a
+  // delay would look like a shifted anchor, with no error at all.
+  Scene scene;
+  scene.planes.push_back(frontoParallel("wall", 2.0, 10));
+  const auto accelerating = std::make_shared<AnalyticMotion>(
+      "accelerating", 0, 1'000'000'000, [](double t, Eigen::Vector3d& p, Eigen::Quaterniond& q) {
+        p = Eigen::Vector3d(10.0 * t * t, 0, 0);
+        q = Eigen::Quaterniond::Identity();
+      });
+  const FeatureGroundTruth gt(scene, CameraModel::pinhole(240, 180, 200, 200, 120, 90), accelerating);
+  // A tracker 4 ms late: the measurement stamped t is the true projection at t - 4 ms.
+  constexpr int64_t kDelay = 4'000'000;
+  const auto a = gt.anchor(0, Eigen::Vector2d(100, 90));
+  ASSERT_TRUE(a.valid);
+  std::vector<TrackMeasurement> ms;
+  for (int k = 0; k <= 20; ++k) {
+    TrackMeasurement m;
+    m.feature_id = 0;
+    m.t_ns = kDelay + k * 5'000'000;
+    const Eigen::Vector2d p = gt.project(a.p_w, m.t_ns - kDelay).pixel;
+    m.x = static_cast<float>(p.x());
+    m.y = static_cast<float>(p.y());
+    ms.push_back(m);
+  }
+  const FeatureAccuracy stamped = evaluateFeatureTracks(ms, gt);
+  FeatureAccuracyOptions shifted;
+  shifted.time_offset_ns = -kDelay;
+  const FeatureAccuracy delayed = evaluateFeatureTracks(ms, gt, shifted);
+  ASSERT_EQ(stamped.tracks.size(), 1u);
+  ASSERT_EQ(delayed.tracks.size(), 1u);
+  // At 0.1 s the image moves at 200 px/s: 4 ms late is about 0.8 px behind.
+  EXPECT_GT(stamped.tracks[0].max_error_px, 0.5);
+  EXPECT_LT(stamped.all.median_along_motion_px, -0.2);  // behind the motion: a lag
+  EXPECT_LT(delayed.tracks[0].max_error_px, 1e-4);
+  EXPECT_NEAR(delayed.all.median_along_motion_px, 0.0, 1e-4);
+}
+
 TEST(FeatureGroundTruth, RebuildsTheGroundTruthOfASimulatedFolder) {
   TempDir dir;
   SimulationSpec spec;

@@ -97,6 +97,10 @@ struct FeatureAccuracyOptions {
   double bad_error_px = 5.0;                 ///< a track is "bad" from its first error above this
   int64_t max_bad_survival_ns = 20'000'000;  ///< ... and counts when it survives longer than this
   int min_measurements = 2;                  ///< shorter tracks carry no error (the first is 0)
+  /// A measurement stamped t is compared with the true projection at t + time_offset_ns (its track
+  /// anchored at its first stamp + the offset too): the offset at which the error is smallest is the
+  /// tracker's effective delay, negative when the tracks lag behind the scene.
+  int64_t time_offset_ns = 0;
 };
 
 /// Per track.
