@@ -1,0 +1,130 @@
+#!/usr/bin/python3
+"""What a track's error is made of, from the per-measurement errors that
+`bench_replay_tracks RUN SEQ OUT --dump-errors FILE` writes (lines `id t x y x_true y_true`, raw pixels;
+the truth is the projection of the scene point on the ray of the track's first measurement).
+
+Prints three readings (docs/results/track_errors.md):
+  * slow and fast parts: each track's error smoothed by a centred moving average over --window-ms, and
+    what is left (jitter);
+  * anchoring later: the error measured against the track's measurement at age K (e(t) - e(t_K)) for
+    measurements older than K, against the error from the first one, for K in --anchor-ms;
+  * a lag along the motion: per track the error and the direction of the true image motion with their
+    track means removed, the least-squares lag b of e = b * direction, and what is left after it.
+
+Needs numpy (Debian's python3-numpy). Run with /usr/bin/python3."""
+
+import argparse
+import sys
+
+import numpy as np
+
+MIN_SPEED_PX_S = 5.0  # image motion slower than this has no direction
+MIN_MEASUREMENTS = 6  # shorter tracks are left out
+
+
+def read_dump(path):
+    """Rows of (id, t, x, y, x_true, y_true) sorted by track and time; an error names the line."""
+    rows = []
+    with open(path) as f:
+        for number, line in enumerate(f, 1):
+            if not line.strip() or line.startswith("#"):
+                continue
+            fields = line.split()
+            try:
+                values = [float(v) for v in fields]
+            except ValueError:
+                values = []
+            if len(values) != 6 or not np.all(np.isfinite(values)):
+                raise ValueError("%s:%d: expected 'id t x y x_true y_true', got %r" % (path, number, line.rstrip()))
+            rows.append(values)
+    if not rows:
+        raise ValueError("%s: no measurement" % path)
+    d = np.array(rows)
+    return d[np.lexsort((d[:, 1], d[:, 0]))]
+
+
+def tracks(d):
+    """(times, errors, true positions) of each track with at least MIN_MEASUREMENTS measurements."""
+    _, starts = np.unique(d[:, 0], return_index=True)
+    bounds = list(starts) + [len(d)]
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        if b - a >= MIN_MEASUREMENTS:
+            yield d[a:b, 1], d[a:b, 2:4] - d[a:b, 4:6], d[a:b, 4:6]
+
+
+def norms(x):
+    return np.linalg.norm(x, axis=1)
+
+
+def slow_and_fast(d, window_s):
+    """Median |error|, |smoothed error| and |error - smoothed| over all measurements."""
+    raw, slow, fast = [], [], []
+    for t, e, _ in tracks(d):
+        s = np.array([e[np.abs(t - ti) <= window_s / 2].mean(0) for ti in t])
+        raw.append(e)
+        slow.append(s)
+        fast.append(e - s)
+    return tuple(float(np.median(norms(np.vstack(x)))) for x in (raw, slow, fast))
+
+
+def anchored_later(d, age_s):
+    """Over measurements older than age_s: median |e(t)| and median |e(t) - e(t_K)|, t_K the first
+    measurement at age >= age_s; and their count."""
+    first, later = [], []
+    for t, e, _ in tracks(d):
+        age = t - t[0]
+        k = int(np.searchsorted(age, age_s - 1e-12))
+        if k >= len(t) - 1:
+            continue
+        first.append(norms(e[k + 1:]))
+        later.append(norms(e[k + 1:] - e[k]))
+    if not first:
+        return float("nan"), float("nan"), 0
+    first, later = np.concatenate(first), np.concatenate(later)
+    return float(np.median(first)), float(np.median(later)), len(first)
+
+
+def motion_lag(d):
+    """Least-squares lag b (px) of e = c_track + b * direction, and the median |e - c_track| before and
+    after removing b * direction (direction: unit true image motion, 0 where slower than MIN_SPEED)."""
+    errors, directions = [], []
+    for t, e, truth in tracks(d):
+        v = np.gradient(truth, t, axis=0)
+        speed = norms(v)
+        direction = np.where((speed > MIN_SPEED_PX_S)[:, None], v / np.maximum(speed, 1e-12)[:, None], 0.0)
+        errors.append(e - e.mean(0))
+        directions.append(direction - direction.mean(0))
+    e, u = np.vstack(errors), np.vstack(directions)
+    b = float((e * u).sum() / max((u * u).sum(), 1e-12))
+    return b, float(np.median(norms(e))), float(np.median(norms(e - b * u)))
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("dump", help="a --dump-errors file of bench_replay_tracks")
+    parser.add_argument("--window-ms", type=float, default=50.0, help="moving-average window (default 50)")
+    parser.add_argument("--anchor-ms", type=float, nargs="+", default=[10, 20, 50, 100])
+    args = parser.parse_args(argv)
+    if not args.window_ms > 0 or any(not k >= 0 for k in args.anchor_ms):
+        parser.error("--window-ms must be > 0 and --anchor-ms >= 0")
+    try:
+        d = read_dump(args.dump)
+    except (OSError, ValueError) as e:
+        print("track_error_parts: %s" % e, file=sys.stderr)
+        return 1
+    raw, slow, fast = slow_and_fast(d, args.window_ms * 1e-3)
+    print("measurements %d of %d tracks" % (len(d), len(np.unique(d[:, 0]))))
+    print("median |error| %.3f px; smoothed over %g ms %.3f px; what is left (jitter) %.3f px"
+          % (raw, args.window_ms, slow, fast))
+    for k in args.anchor_ms:
+        first, later, n = anchored_later(d, k * 1e-3)
+        print("older than %g ms (%d): from the first measurement %.3f px, from the one at %g ms %.3f px"
+              % (k, n, first, k, later))
+    b, before, after = motion_lag(d)
+    print("lag along the true image motion %.3f px; error less its track mean %.3f px, less the lag too %.3f px"
+          % (b, before, after))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
