@@ -115,6 +115,20 @@ TEST(Se3, CombinedInverseJacobiansMatchTheSeparateOnes) {
   }
 }
 
+TEST(Se3, ExpWithRightJacobianGivesTheSeparateResultsBitForBit) {
+  std::mt19937 rng(21);
+  for (double theta : angleSweep()) {
+    const Vec6 xi = randomTwist(rng, theta);
+    Mat6 J_r;
+    const SE3 T = se3::expWithRightJacobian(xi, J_r);
+    const SE3 T_ref = se3::exp(xi);
+    const Mat6 J_ref = se3::rightJacobian(xi);
+    EXPECT_TRUE(T.rotation() == T_ref.rotation()) << theta;
+    EXPECT_TRUE(T.translation() == T_ref.translation()) << theta;
+    EXPECT_TRUE(J_r == J_ref) << theta << "\n" << J_r - J_ref;
+  }
+}
+
 TEST(Se3, RightJacobianInverseMatchesBernoulliSeriesForModerateAngles) {
   std::mt19937 rng(17);
   for (double theta : {1e-9, 1e-5, 3e-3, 2e-2, 0.5}) {

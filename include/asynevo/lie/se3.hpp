@@ -142,16 +142,17 @@ inline Eigen::Vector3d qLeftCoefficients(double theta_sq) {
 
 /// Q_l(ξ) = ½ρ^ + c1 (Pρ^ + ρ^P + Pρ^P) + c2 (P²ρ^ + ρ^P² − 3Pρ^P) + c3 (Pρ^P² + P²ρ^P), P = φ^:
 /// the top-right block of J_l(ξ).
-inline Mat3 qLeft(const Vec6& xi) {
+/// `c` = qLeftCoefficients(‖φ‖²), for a caller that has them.
+inline Mat3 qLeft(const Vec6& xi, const Eigen::Vector3d& c) {
   const Mat3 P = so3::hat(xi.tail<3>());
   const Mat3 Rh = so3::hat(xi.head<3>());
-  const Eigen::Vector3d c = qLeftCoefficients(xi.tail<3>().squaredNorm());
   const Mat3 PR = P * Rh;
   const Mat3 RP = Rh * P;
   const Mat3 PRP = PR * P;
   return 0.5 * Rh + c[0] * (PR + RP + PRP) + c[1] * (P * PR + RP * P - 3.0 * PRP) +
          c[2] * (PRP * P + P * PRP);
 }
+inline Mat3 qLeft(const Vec6& xi) { return qLeft(xi, qLeftCoefficients(xi.tail<3>().squaredNorm())); }
 
 /// J_l(ξ) = [J_l(φ) Q_l(ξ); 0 J_l(φ)].  Exp(ξ + δ) ≈ Exp(J_l δ) Exp(ξ).
 inline Mat6 leftJacobian(const Vec6& xi) {
@@ -175,6 +176,28 @@ inline Mat6 leftJacobianInverse(const Vec6& xi) {
 
 /// J_r(ξ) = J_l(−ξ).  Exp(ξ + δ) ≈ Exp(ξ) Exp(J_r δ).
 inline Mat6 rightJacobian(const Vec6& xi) { return leftJacobian(-xi); }
+
+/// Exp(ξ) and J_r(ξ) together, the trigonometry of the SO(3) part computed once: the same values, bit
+/// for bit, as exp(xi) and rightJacobian(xi) (each expression is evaluated as there).
+inline SE3 expWithRightJacobian(const Vec6& xi, Mat6& J_r) {
+  const Vec3 rho = xi.head<3>();
+  const Vec3 phi = xi.tail<3>();
+  const double theta_sq = phi.squaredNorm();
+  const so3::Coefficients k = so3::coefficients(theta_sq);
+  const Mat3 P = so3::hat(phi);
+  const Mat3 P2 = P * P;
+  const Mat3 R = Mat3::Identity() + k.a * P + k.b * P2;
+  const Mat3 Jl = Mat3::Identity() + k.b * P + k.c * P2;
+  // leftJacobian(−ξ): so3::leftJacobian(−φ) and qLeft(−ξ); ‖−φ‖² = ‖φ‖² exactly.
+  const Vec6 minus = -xi;
+  const Mat3 Pm = so3::hat(minus.tail<3>());
+  const Mat3 Jl_minus = Mat3::Identity() + k.b * Pm + k.c * Pm * Pm;
+  J_r.setZero();
+  J_r.topLeftCorner<3, 3>() = Jl_minus;
+  J_r.topRightCorner<3, 3>() = qLeft(minus, qLeftCoefficients(theta_sq));
+  J_r.bottomRightCorner<3, 3>() = Jl_minus;
+  return SE3(R, Jl * rho);
+}
 
 /// J_r⁻¹(ξ) = J_l⁻¹(−ξ).  Log(Exp(ξ) Exp(δ)) ≈ ξ + J_r⁻¹ δ.
 inline Mat6 rightJacobianInverse(const Vec6& xi) { return leftJacobianInverse(-xi); }
