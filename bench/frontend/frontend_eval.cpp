@@ -21,7 +21,9 @@
 #include <vector>
 
 #include "asynevo/core/config/config.hpp"
+#include "asynevo/frontend/corner_detector.hpp"
 #include "asynevo/frontend/frontend.hpp"
+#include "asynevo/frontend/sae.hpp"
 #include "asynevo/frontend/rotation_check.hpp"
 #include "asynevo/io/calibration_io.hpp"
 #include "asynevo/io/dataset.hpp"
@@ -196,6 +198,30 @@ void evaluateSimulated(const Config& config, const std::string& spec, int worst,
   printEndings(out, sim::evaluateFeatureTracks(out.measurements, *s.ground_truth, accuracy));
 }
 
+// Every corner event of the frontend's detector run over all events (the frontend itself detects only
+// on events no tracker took), fixed threshold: `t x y score` per line (--corners FILE).
+void writeCorners(const Config& config, const std::vector<Event>& events, int width, int height,
+                  const std::string& path) {
+  frontend::SurfaceOfActiveEvents sae(width, height, std::llround(config.frontend.refractory_period_ms * 1e6));
+  frontend::DetectorParams params;
+  params.harris_threshold = config.frontend.harris_threshold;
+  params.harris_k = config.frontend.harris_k;
+  params.harris_latest = config.frontend.harris_latest;
+  frontend::CornerDetector detector(sae, params);
+  std::ofstream out(path);
+  out << "# t x y score  (every FA-Harris corner event)\n";
+  uint64_t n = 0;
+  for (const Event& e : events) {
+    if (e.x >= width || e.y >= height) continue;
+    const bool accepted = sae.update(e);
+    const frontend::CornerResult r = detector.detect(e, accepted);
+    if (!r.corner) continue;
+    out << fmt::format("{:.9f} {} {} {:.2f}\n", e.t_ns * 1e-9, e.x, e.y, r.score);
+    ++n;
+  }
+  fmt::print("corners           {} written to {}\n", n, path);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) try {
@@ -203,6 +229,7 @@ int main(int argc, char** argv) try {
   bool accel = false;
   std::string tracks_path;
   int worst = 0;
+  std::string corners_path;
   sim::FeatureAccuracyOptions accuracy;
   std::vector<std::string> dirs;
   for (int i = 1; i < argc; ++i) {
@@ -217,6 +244,8 @@ int main(int argc, char** argv) try {
       dirs.push_back(std::string("@sim:") + argv[++i]);
     } else if (a == "--worst" && i + 1 < argc) {
       worst = std::stoi(argv[++i]);
+    } else if (a == "--corners" && i + 1 < argc) {
+      corners_path = argv[++i];
     } else if (a == "--time-offset-ms" && i + 1 < argc) {
       accuracy.time_offset_ns = std::llround(std::stod(argv[++i]) * 1e6);
     } else if (a == "--tracks" && i + 1 < argc) {
@@ -225,6 +254,7 @@ int main(int argc, char** argv) try {
       const bool help = a == "--help" || a == "-h";
       fmt::print(help ? stdout : stderr,
                  "usage: frontend_eval [--yaml YAML] [--accel] [--tracks FILE] [--worst N] [--time-offset-ms MS] "
+                 "[--corners FILE] "
                  "(DIR | --sim SCENE:MOTION:SECONDS[:SEED] | --synthetic)...\n");
       return help ? 0 : 2;
     } else {
@@ -247,6 +277,7 @@ int main(int argc, char** argv) try {
                                                       camera.undistortionTable<float>());
     const frontend::MeasurementCollector& out = run.out;
     fmt::print("== {}\n{}", dir, run.stats.summary());
+    if (!corners_path.empty()) writeCorners(config, events, camera.width(), camera.height(), corners_path);
     if (sim::isSimulatedDataset(dir)) {
       printAccuracy(out.measurements, sim::loadSimulatedGroundTruth(dir), worst, accuracy);
       continue;
