@@ -9,7 +9,10 @@ Prints three readings (docs/results/track_errors.md):
   * anchoring later: the error measured against the track's measurement at age K (e(t) - e(t_K)) for
     measurements older than K, against the error from the first one, for K in --anchor-ms;
   * a lag along the motion: per track the error and the direction of the true image motion with their
-    track means removed, the least-squares lag b of e = b * direction, and what is left after it.
+    track means removed, the least-squares lag b of e = b * direction, and what is left after it;
+  * with --corners FILE (lines `t x y score`, `frontend_eval --corners`): each measurement moved by the
+    median offset from the track of the corner events within --corner-radius px of it over
+    --corner-window-ms (where there are at least --corner-min of them), and the error after.
 
 Needs numpy (Debian's python3-numpy). Run with /usr/bin/python3."""
 
@@ -99,16 +102,51 @@ def motion_lag(d):
     return b, float(np.median(norms(e))), float(np.median(norms(e - b * u)))
 
 
+def snapped_to_corners(d, corners, radius, window_s, min_corners):
+    """Median |error| with each track's mean removed, before and after moving each measurement by the
+    median offset of the nearby corner events; and how many measurements moved, of how many."""
+    ct, cp = corners[:, 0], corners[:, 1:3]
+    before, after, moved, total = [], [], 0, 0
+    for t, e, truth in tracks(d):
+        m = truth + e
+        i0, i1 = np.searchsorted(ct, [t[0] - window_s, t[-1] + window_s])
+        tc = ct[i0:i1]
+        offset = cp[i0:i1] - np.stack([np.interp(tc, t, m[:, 0]), np.interp(tc, t, m[:, 1])], 1)
+        near = norms(offset) <= radius if len(tc) else np.zeros(0, bool)
+        tc, offset = tc[near], offset[near]
+        snapped = m.copy()
+        for i in range(len(t)):
+            within = np.abs(tc - t[i]) <= window_s / 2
+            total += 1
+            if within.sum() >= min_corners:
+                snapped[i] = m[i] + np.median(offset[within], 0)
+                moved += 1
+        es = snapped - truth
+        before.append(e - e.mean(0))
+        after.append(es - es.mean(0))
+    return float(np.median(norms(np.vstack(before)))), float(np.median(norms(np.vstack(after)))), moved, total
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("dump", help="a --dump-errors file of bench_replay_tracks")
     parser.add_argument("--window-ms", type=float, default=50.0, help="moving-average window (default 50)")
     parser.add_argument("--anchor-ms", type=float, nargs="+", default=[10, 20, 50, 100])
+    parser.add_argument("--corners", help="corner events (frontend_eval --corners)")
+    parser.add_argument("--corner-radius", type=float, default=1.5, help="px (default 1.5)")
+    parser.add_argument("--corner-window-ms", type=float, default=20.0, help="default 20")
+    parser.add_argument("--corner-min", type=int, default=3, help="default 3")
     args = parser.parse_args(argv)
     if not args.window_ms > 0 or any(not k >= 0 for k in args.anchor_ms):
         parser.error("--window-ms must be > 0 and --anchor-ms >= 0")
     try:
         d = read_dump(args.dump)
+        corners = None
+        if args.corners:
+            corners = np.loadtxt(args.corners, ndmin=2)
+            if corners.shape[1] < 3 or not np.all(np.isfinite(corners)):
+                raise ValueError("%s: expected lines 't x y score'" % args.corners)
+            corners = corners[np.argsort(corners[:, 0], kind="stable")]
     except (OSError, ValueError) as e:
         print("track_error_parts: %s" % e, file=sys.stderr)
         return 1
@@ -123,6 +161,12 @@ def main(argv=None):
     b, before, after = motion_lag(d)
     print("lag along the true image motion %.3f px; error less its track mean %.3f px, less the lag too %.3f px"
           % (b, before, after))
+    if corners is not None:
+        before, after, moved, total = snapped_to_corners(d, corners, args.corner_radius,
+                                                         args.corner_window_ms * 1e-3, args.corner_min)
+        print("moved to the corners within %g px over %g ms (at least %d): %d of %d measurements; error less its"
+              " track mean %.3f -> %.3f px" % (args.corner_radius, args.corner_window_ms, args.corner_min, moved,
+                                               total, before, after))
     return 0
 
 

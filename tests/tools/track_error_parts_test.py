@@ -9,6 +9,8 @@ import os
 import sys
 import tempfile
 
+import numpy as np
+
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
 import track_error_parts as tep  # noqa: E402
 
@@ -65,7 +67,23 @@ with tempfile.TemporaryDirectory() as root:
           % (first, later))
     check(n == 45, "measurements older than 20 ms counted (%d)" % n)
 
-    # 4. A malformed line is named with its file and line; the command exits non-zero.
+    # 4. Corners exactly at the true point every 2 ms: a track that wanders by a 0.5 px sine is pulled
+    #    back onto it; corners 5 px away are not used.
+    corner_rows = []
+    for k in range(200):
+        t = 0.002 * k
+        corner_rows.append((t, 30.0, 40.0, 10.0))
+        corner_rows.append((t, 35.0, 40.0, 10.0))
+    np.savetxt(os.path.join(root, "corners.txt"), np.array(corner_rows), header="t x y score")
+    rows = [(3, 0.005 * k, 30 + 0.5 * math.sin(2 * math.pi * 0.005 * k), 40, 30, 40) for k in range(80)]
+    write(os.path.join(root, "wander.txt"), rows)
+    corners = np.loadtxt(os.path.join(root, "corners.txt"), ndmin=2)
+    before, after, moved, total = tep.snapped_to_corners(tep.read_dump(os.path.join(root, "wander.txt")),
+                                                         corners, 1.5, 0.02, 3)
+    check(moved == total == 80, "every measurement has corners near it (%d of %d)" % (moved, total))
+    check(before > 0.05 and after < 0.01, "the corners pull the wander back (%.3f -> %.3g px)" % (before, after))
+
+    # 5. A malformed line is named with its file and line; the command exits non-zero.
     bad = os.path.join(root, "bad.txt")
     with open(bad, "w") as f:
         f.write("# id t x y x_true y_true\n1 0.0 1 2 3 4\n1 0.1 1 nan 3 4\n")
