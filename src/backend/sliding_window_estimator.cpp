@@ -774,6 +774,7 @@ std::pair<int, double> SlidingWindowEstimator::solveBuiltin(const std::vector<Fa
   WindowSolverOptions solver_options;
   solver_options.max_iterations = max_iterations;
   solver_options.function_tolerance = options_.config.function_tolerance;
+  solver_options.relinearize_every = options_.config.relinearize_every;
   solver_options.threads = options_.config.solver_threads;
   if (options_.real_time) solver_options.max_time_s = options_.config.max_solver_time_s;
   const WindowSolverSummary summary =

@@ -209,12 +209,15 @@ class ArrowProblem {
   /// The factors are evaluated in the ranges of splitEvaluation(), one per thread (the caller's and the
   /// workers'): every factor writes its own residuals, Jacobians and cost term, and the cost terms are
   /// summed in factor order afterwards, so the result is the same bit for bit on any number of threads.
-  bool evaluate(bool with_jacobians, double& cost, RangeWorkers& workers) {
+  /// With `corrected_residuals` (and no Jacobians) the residuals are robust-corrected as with Jacobians,
+  /// for buildGradient().
+  bool evaluate(bool with_jacobians, double& cost, RangeWorkers& workers, bool corrected_residuals = false) {
     factor_cost_.resize(factors_.size());
     const int ranges = static_cast<int>(bounds_.size()) - 1;
     std::vector<char> range_ok(static_cast<std::size_t>(ranges), 1);
-    workers.run(ranges,
-                [&](int k) { range_ok[k] = evaluateRange(bounds_[k], bounds_[k + 1], with_jacobians); });
+    workers.run(ranges, [&](int k) {
+      range_ok[k] = evaluateRange(bounds_[k], bounds_[k + 1], with_jacobians, corrected_residuals);
+    });
     if (!std::all_of(range_ok.begin(), range_ok.end(), [](char c) { return c != 0; })) return false;
     cost = 0.0;
     for (const double c : factor_cost_) cost += c;
@@ -254,7 +257,7 @@ class ArrowProblem {
   int blockSlot(const Factor& f, int b) const { return block_slots_[static_cast<std::size_t>(f.first + b)]; }
 
   /// evaluate() of the factors eval_order_[begin, end).
-  bool evaluateRange(int begin, int end, bool with_jacobians) {
+  bool evaluateRange(int begin, int end, bool with_jacobians, bool corrected_residuals) {
     std::vector<double*> jacobian_ptrs;
     for (int o = begin; o < end; ++o) {
       const int i = eval_order_[static_cast<std::size_t>(o)];
@@ -280,7 +283,7 @@ class ArrowProblem {
       double rho[3];
       f.entry->loss->Evaluate(s, rho);
       cost = 0.5 * rho[0];
-      if (!with_jacobians) continue;
+      if (!with_jacobians && !corrected_residuals) continue;
       // Triggs correction, as linearize() in factor_graph.cpp.
       const double sqrt_rho1 = std::sqrt(std::max(rho[1], 0.0));
       double alpha = 0.0;
@@ -295,6 +298,39 @@ class ArrowProblem {
       res *= sqrt_rho1 / (1.0 - alpha);
     }
     return true;
+  }
+
+  /// g and the landmarks' gradients from the residuals of the latest evaluate() (robust-corrected) and
+  /// the Jacobians of the latest evaluate(true): a gradient at new values through the Jacobians of an
+  /// earlier linearization (WindowSolverOptions::relinearize_every); H and the landmark blocks are kept.
+  void buildGradient() {
+    g_.setZero(reduced_dims_);
+    for (Landmark& lm : landmarks_) lm.g.setZero();
+    for (const Factor& f : factors_) {
+      const auto& sizes = f.entry->cost->parameter_block_sizes();
+      const Eigen::Map<const Eigen::VectorXd> r(residuals_.data() + f.residual_offset, f.residuals);
+      if (f.linear_prior) {  // exact: a linear prior's normal equations at the current values
+        f.linear_prior->normalEquations(f.entry->blocks.data(), prior_information_, prior_gradient_);
+        int ci = 0;
+        for (int i = 0; i < f.blocks; ++i) {
+          const Variable& vi = variables_[blockVariable(f, i)];
+          if (!vi.constant) g_.segment(vi.offset, vi.tangent) += prior_gradient_.segment(ci, vi.tangent);
+          ci += vi.tangent;
+        }
+        continue;
+      }
+      for (int b = 0; b < f.blocks; ++b) {
+        if (blockJacobian(f, b) < 0) continue;
+        const Variable& var = variables_[blockVariable(f, b)];
+        const auto J = Eigen::Map<const RowMatrix>(jacobians_.data() + blockJacobian(f, b), f.residuals, sizes[b])
+                           .leftCols(var.tangent);
+        if (var.landmark >= 0) {
+          landmarks_[var.landmark].g.noalias() += J.transpose() * r;
+        } else {
+          g_.segment(var.offset, var.tangent).noalias() += J.transpose() * r;
+        }
+      }
+    }
   }
 
   /// H (reduced part), g and the landmark blocks from the latest evaluate(true).
@@ -594,8 +630,11 @@ WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const s
     problem.buildNormalEquations();
     return 0;
   });
+  summary.linearizations = 1;
   double radius = options.initial_radius;
   double decrease_factor = 2.0;
+  int steps_since_linearization = 0;  // steps taken since the Jacobians of H were evaluated
+  bool jacobians_stale = false;       // the Jacobian buffer holds a rejected candidate's
   bool done = problem.gradientMaxNorm() <= options.gradient_tolerance;
   for (int iteration = 1; !done && iteration <= options.max_iterations; ++iteration) {
     if (options.max_time_s > 0.0 && msSince(start) >= 1e3 * options.max_time_s) break;
@@ -613,18 +652,25 @@ WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const s
     problem.saveValues();
     problem.applyStep();
     // The candidate is evaluated with its Jacobians (steps are mostly taken, and the linearization then
-    // comes from this evaluation), except at the last iteration, where nothing would use them. H and g
-    // are kept apart from the evaluation buffers, so a rejected candidate leaves them valid.
+    // comes from this evaluation), except at the last iteration, where nothing would use them, and
+    // between relinearizations (relinearize_every > 1), where only its gradient is rebuilt, through the
+    // Jacobians of the linearization. H and g are kept apart from the evaluation buffers, so a rejected
+    // candidate leaves them valid; a rejected candidate evaluated with Jacobians leaves the Jacobian
+    // buffer at its values, so the next candidate relinearizes.
     const bool last = iteration == options.max_iterations;
+    const bool relinearize =
+        !last && (jacobians_stale || steps_since_linearization + 1 >= std::max(options.relinearize_every, 1));
     double candidate = 0.0;
-    const bool valid = timed(last ? summary.residuals_ms : summary.jacobians_ms,
-                             [&] { return problem.evaluate(!last, candidate, workers); });
+    const bool valid = timed(relinearize ? summary.jacobians_ms : summary.residuals_ms, [&] {
+      return problem.evaluate(relinearize, candidate, workers, !relinearize && !last);
+    });
     if (valid && std::abs(cost - candidate) <= options.function_tolerance * cost) {
       problem.restoreValues();  // as Ceres: the function tolerance ends the solve before the step is taken
       break;
     }
     const double rho = valid ? (cost - candidate) / model_decrease : -1.0;
     if (!valid || rho <= options.min_relative_decrease) {
+      if (relinearize) jacobians_stale = true;
       problem.restoreValues();
       radius /= decrease_factor;
       decrease_factor *= 2.0;
@@ -638,9 +684,20 @@ WindowSolverSummary solveWindow(const std::vector<FactorEntry>& factors, const s
     summary.final_cost = cost;
     if (last) break;
     timed(summary.linear_ms, [&] {
-      problem.buildNormalEquations();
+      if (relinearize) {
+        problem.buildNormalEquations();
+      } else {
+        problem.buildGradient();
+      }
       return 0;
     });
+    if (relinearize) {
+      steps_since_linearization = 0;
+      jacobians_stale = false;
+      ++summary.linearizations;
+    } else {
+      ++steps_since_linearization;
+    }
     done = problem.gradientMaxNorm() <= options.gradient_tolerance;
   }
   summary.total_ms = msSince(start);

@@ -122,6 +122,20 @@ TEST(SlidingWindowEstimator, ALooserFunctionToleranceEndsTheWindowSolvesSooner) 
   EXPECT_LT(acc.ate_rmse, 0.03 * acc.path_length) << "ATE " << acc.ate_rmse << " over " << acc.path_length;
 }
 
+TEST(SlidingWindowEstimator, ChordStepsTrackTheSyntheticSceneAsWellAsEveryStepLinearized) {
+  // backend.relinearize_every 2: half of the steps of a solve reuse the Jacobians of the step before.
+  const RunResult a = runBuiltin(2.5);
+  const RunResult b = runBuiltin(2.5, [](BackendConfig& c) { c.relinearize_every = 2; });
+  ASSERT_TRUE(a.stats.initialized) << a.stats.init_last_failure;
+  ASSERT_TRUE(b.stats.initialized) << b.stats.init_last_failure;
+  ASSERT_GT(b.knots.size(), 40u);
+  const Accuracy acc_a = accuracy(a.knots);
+  const Accuracy acc_b = accuracy(b.knots);
+  EXPECT_LT(acc_b.ate_rmse, 0.03 * acc_b.path_length) << "ATE " << acc_b.ate_rmse << " over " << acc_b.path_length;
+  EXPECT_LT(acc_b.ate_rmse, 1.5 * acc_a.ate_rmse + 1e-3 * acc_a.path_length)
+      << acc_b.ate_rmse << " against " << acc_a.ate_rmse;
+}
+
 TEST(SlidingWindowEstimator, TwoKnotsPerUpdateSolveHalfAsOftenAndKeepEveryKnot) {
   // backend.knots_per_update 2: the window grows by two knots before each update, so it is solved half
   // as often; the output still has one final knot every knot_dt, the window stays bounded, and it tracks.

@@ -155,6 +155,30 @@ TEST_F(WindowSolverTest, FewIterationsDescendLikeCeres) {
   EXPECT_NEAR(b.own.final_cost, b.ceres_cost, 0.05 * b.ceres_cost);
 }
 
+TEST_F(WindowSolverTest, ChordStepsReachTheSameMinimumWithFewerLinearizations) {
+  // relinearize_every k: Jacobians at every k-th step taken, the steps between reuse them with the
+  // gradient at the new values. The gradient is exact, so the minimum is the same.
+  const BothSolved reference = solveBoth(60);
+  for (int k : {2, 3}) {
+    GpBaState x = start_;
+    const Window w = makeWindow(scenario_, x, 2.0);
+    WindowSolverOptions options;
+    options.max_iterations = 60;
+    options.relinearize_every = k;
+    const WindowSolverSummary summary = solveWindow(w.factors, w.kinds, w.landmarks, constantOf(x), manifold_, options);
+    ASSERT_TRUE(summary.valid_start) << k;
+    EXPECT_NEAR(summary.final_cost, reference.ceres_cost, 1e-6 * reference.ceres_cost + 1e-9) << k;
+    EXPECT_LT(maxPoseDifference(x, reference.x_own), 1e-6) << k;
+    // One linearization at the start, then at most one per k steps taken (and one after a rejection).
+    const int rejected = summary.iterations - 1 - summary.accepted_steps;
+    EXPECT_LE(summary.linearizations, 1 + summary.accepted_steps / k + rejected) << k;
+    EXPECT_LT(summary.linearizations, summary.accepted_steps) << k;
+  }
+  // k = 1, the default, linearizes at every step taken but the last.
+  EXPECT_EQ(WindowSolverOptions{}.relinearize_every, 1);
+  EXPECT_GE(reference.own.linearizations, reference.own.accepted_steps);
+}
+
 TEST_F(WindowSolverTest, ConstantBlocksDoNotMove) {
   GpBaState x = start_;
   const Window w = makeWindow(scenario_, x, 2.0);

@@ -188,6 +188,13 @@ TEST(Config, KnotsPerUpdateMustLeaveTheWindowItsLeastKnots) {
   EXPECT_EQ(yamlError("backend:\n  window_min_knots: 10\n  knots_per_update: 8\n"), "accepted");
 }
 
+TEST(Config, RelinearizeEveryIsAPositiveStepCount) {
+  EXPECT_EQ(yamlError("backend:\n  relinearize_every: 2\n"), "accepted");
+  EXPECT_NE(yamlError("backend:\n  relinearize_every: 0\n").find("backend.relinearize_every = 0"), std::string::npos);
+  EXPECT_NE(yamlError("backend:\n  relinearize_every: 101\n").find("backend.relinearize_every = 101"),
+            std::string::npos);
+}
+
 TEST(Config, AFeatureBudgetLargerThanTheSensorHoldsIsRejectedWithItsKeys) {
   Config config;  // 240x180, border 16 px, features 15 px apart: 208 x 148 px hold 158 hexagonally
   config.validateForSensor();

@@ -39,12 +39,16 @@ struct WindowSolverOptions {
   double min_relative_decrease = 1e-3;
   /// Threads evaluating the factors (residuals, Jacobians); the result does not depend on it.
   int threads = 1;
+  /// The Jacobians and the normal equations are evaluated at every k-th step taken; in between, a step
+  /// reuses them with the gradient at the new values (a chord step). 1: every step (Levenberg–Marquardt).
+  int relinearize_every = 1;
 };
 
 struct WindowSolverSummary {
   /// As Ceres counts them (Summary::iterations.size()): the evaluation at the start is iteration 0.
   int iterations = 0;
   int accepted_steps = 0;
+  int linearizations = 0;  ///< evaluations whose Jacobians built the normal equations (the start's included)
   double initial_cost = 0.0;
   double final_cost = 0.0;
   bool valid_start = true;  ///< false: a factor refused to evaluate at the start; nothing was changed

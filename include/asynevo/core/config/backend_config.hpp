@@ -78,6 +78,9 @@ struct BackendConfig {
   int max_iterations = 5;
   /// The solve ends when a step changes the cost by at most this fraction of it (Ceres's function tolerance).
   double function_tolerance = 1e-6;
+  /// builtin solver: the Jacobians and normal equations are evaluated at every k-th step taken; the
+  /// steps between reuse them with the gradient at the new values (1 = every step).
+  int relinearize_every = 1;
   double max_solver_time_s = 0.2;
   /// Threads of a window solve: builtin, the factors' evaluation (the same result on any number); ceres and
   /// the full-history baselines, Ceres's threads (only 1 keeps offline runs bit-for-bit deterministic).
@@ -224,6 +227,8 @@ struct BackendConfig {
     v("max_iterations", max_iterations, "Levenberg-Marquardt iterations per window solve");
     v("function_tolerance", function_tolerance,
       "a window solve ends when a step changes the cost by at most this fraction of it");
+    v("relinearize_every", relinearize_every,
+      "builtin solver: Jacobians at every k-th step taken, the steps between reuse them (1 = every step)");
     v("max_solver_time_s", max_solver_time_s, "wall-time cap per window solve [s]");
     v("solver_threads", solver_threads,
       "threads of a window solve: builtin, factor evaluation (same result on any number); ceres, "
