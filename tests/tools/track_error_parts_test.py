@@ -11,16 +11,9 @@ import tempfile
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
-import track_error_parts as tep  # noqa: E402
+from tool_checks import check, exit_code
 
-failures = []
-
-
-def check(condition, what):
-    print(("ok      " if condition else "FAILED  ") + what)
-    if not condition:
-        failures.append(what)
+import track_error_parts as tep  # noqa: E402  (tools/, put on the path by tool_checks)
 
 
 def write(path, rows):
@@ -97,4 +90,4 @@ with tempfile.TemporaryDirectory() as root:
     check(code == 0 and "lag along the true image motion -0.300 px" in out.getvalue(),
           "the command prints the lag:\n" + out.getvalue())
 
-sys.exit(1 if failures else 0)
+sys.exit(exit_code())
