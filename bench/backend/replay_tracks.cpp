@@ -5,7 +5,7 @@
 //
 //   bench_replay_tracks RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental]
 //                       [--seed N] [--dump-errors FILE] [--skip-ms MS] [--window-solver ceres|builtin]
-//                       [--oracle-cut PX] [--oracle-scale F]
+//                       [--oracle-cut PX] [--oracle-scale F] [--oracle-min-age-ms MS]
 //
 // Writes OUT_TRAJ (TUM, as the run's stamped_traj_estimate.txt), OUT_TRAJ.velocities.txt (as its
 // velocities.txt), OUT_TRAJ.segments.txt (as its segments.txt), OUT_TRAJ.updates.csv (the update
@@ -18,6 +18,8 @@
 // PX from the truth on (what a test that ended every track at its first gross error would give).
 // --oracle-scale F: the error of every measurement of a feature on a fixed scene point is multiplied by F
 // (pixel = truth + F (measured - truth)): what uniformly better (F < 1) tracks of the same features give.
+// --oracle-min-age-ms MS: --oracle-scale only for measurements at least MS after their track's first (what
+// tracks whose error stopped growing with age would give).
 // Both measure the error against the ray of the feature's first measurement, as frontend_eval does.
 // --skip-ms: measurements in the first MS milliseconds after the first one are skipped, as if the
 // recording had begun that much later (for the frontend's tracks as they were): the start comes from other
@@ -75,6 +77,7 @@ struct Args {
   std::string window_solver;  ///< --window-solver: overrides the run's backend.window_solver
   std::optional<double> oracle_cut_px;  ///< --oracle-cut
   std::optional<double> oracle_scale;   ///< --oracle-scale
+  double oracle_min_age_ms = 0;         ///< --oracle-min-age-ms
 };
 
 Args parse(int argc, char** argv) {
@@ -82,11 +85,11 @@ Args parse(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: %s RUN_DIR DATASET_DIR OUT_TRAJ [--oracle NOISE_PX] [--drop-edges] [--incremental] "
                  "[--seed N] [--dump-errors FILE] [--skip-ms MS] [--window-solver ceres|builtin] "
-                 "[--oracle-cut PX] [--oracle-scale F]\n",
+                 "[--oracle-cut PX] [--oracle-scale F] [--oracle-min-age-ms MS]\n",
                  argv[0]);
     std::exit(2);
   }
-  Args a{argv[1], argv[2], argv[3], std::nullopt, false, false, 1, {}, 0.0, {}, std::nullopt, std::nullopt};
+  Args a{argv[1], argv[2], argv[3], std::nullopt, false, false, 1, {}, 0.0, {}, std::nullopt, std::nullopt, 0.0};
   auto positive = [&](int i) {
     const double v = std::stod(argv[i]);
     if (!(v >= 0)) {
@@ -103,6 +106,8 @@ Args parse(int argc, char** argv) {
       a.oracle_cut_px = positive(++i);
     } else if (flag == "--oracle-scale" && i + 1 < argc) {
       a.oracle_scale = positive(++i);
+    } else if (flag == "--oracle-min-age-ms" && i + 1 < argc) {
+      a.oracle_min_age_ms = positive(++i);
     } else if (flag == "--drop-edges") {
       a.drop_edges = true;
     } else if (flag == "--incremental") {
@@ -230,6 +235,7 @@ int main(int argc, char** argv) try {
   std::mt19937 rng(args.seed);
   std::normal_distribution<double> noise(0.0, args.oracle_noise_px.value_or(0.0));
   std::map<int64_t, sim::FeatureGroundTruth::Anchor> anchors;
+  std::map<int64_t, int64_t> first_seen_ns;  // --oracle-min-age-ms: each feature's first measurement
   std::set<int64_t> cut_features;  // --oracle-cut: features past their first gross error
   uint64_t cut = 0;
   std::string last_failure;
@@ -297,7 +303,9 @@ int main(int argc, char** argv) try {
         ++cut;
         continue;
       }
-      if (fixed_point && args.oracle_scale) pixel = projection.pixel + *args.oracle_scale * (pixel - projection.pixel);
+      const int64_t first_ns = first_seen_ns.emplace(id, m.t_ns).first->second;
+      if (fixed_point && args.oracle_scale && (m.t_ns - first_ns) * 1e-6 >= args.oracle_min_age_ms)
+        pixel = projection.pixel + *args.oracle_scale * (pixel - projection.pixel);
     }
     m.x = static_cast<float>(pixel.x());
     m.y = static_cast<float>(pixel.y());

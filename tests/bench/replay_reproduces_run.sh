@@ -54,11 +54,14 @@ if ! grep -q "fed $lines measurements (0 skipped)" "$work/older.log"; then
   exit 1
 fi
 echo "a measurement older than the first line is fed: $lines of $lines"
-# The oracle diagnostics: --oracle-scale 1 and a cut no error reaches change nothing; --oracle-scale 0
+# The oracle diagnostics: --oracle-scale 1, a cut no error reaches and a scaling from an age no track
+# reaches change nothing; --oracle-scale 0
 # gives the exact positions that --oracle 0 gives; a 0.3 px cut drops measurements.
 "$replay" "$work/run" "$work/sequence" "$work/scale1.txt" --oracle-scale 1 > "$work/scale1.log"
 "$replay" "$work/run" "$work/sequence" "$work/nocut.txt" --oracle-cut 1000 > "$work/nocut.log"
-for f in scale1 nocut; do
+# --oracle-min-age-ms: the scaling only from that age on; no track of the 2.5 s run lives 100 s.
+"$replay" "$work/run" "$work/sequence" "$work/young.txt" --oracle-scale 0 --oracle-min-age-ms 100000 > "$work/young.log"
+for f in scale1 nocut young; do
   grep -v '^#' "$work/$f.txt" > "$work/${f}_traj.txt"
   cmp "$work/run_traj.txt" "$work/${f}_traj.txt"
 done
@@ -68,6 +71,13 @@ cmp "$work/scale0.txt" "$work/exact.txt"
 grep -v '^#' "$work/exact.txt" > "$work/exact_traj.txt"
 if cmp -s "$work/run_traj.txt" "$work/exact_traj.txt"; then
   echo "FAIL: the exact positions gave the run's trajectory" >&2
+  exit 1
+fi
+# From 100 ms of age on, exact positions: neither the run's trajectory nor that of exact positions throughout.
+"$replay" "$work/run" "$work/sequence" "$work/aged.txt" --oracle-scale 0 --oracle-min-age-ms 100 > "$work/aged.log"
+grep -v '^#' "$work/aged.txt" > "$work/aged_traj.txt"
+if cmp -s "$work/aged_traj.txt" "$work/run_traj.txt" || cmp -s "$work/aged_traj.txt" "$work/exact_traj.txt"; then
+  echo "FAIL: --oracle-min-age-ms 100 changed nothing, or everything" >&2
   exit 1
 fi
 "$replay" "$work/run" "$work/sequence" "$work/cut.txt" --oracle-cut 0.3 > "$work/cut.log"
