@@ -10,6 +10,7 @@ Prints three readings (docs/results/track_errors.md):
     measurements older than K, against the error from the first one, for K in --anchor-ms;
   * a lag along the motion: per track the error and the direction of the true image motion with their
     track means removed, the least-squares lag b of e = b * direction, and what is left after it;
+  * the error by the track's age and by how far its image motion has turned since its first 20 ms;
   * with --corners FILE (lines `t x y score`, `frontend_eval --corners`): each measurement moved by the
     median offset from the track of the corner events within --corner-radius px of it over
     --corner-window-ms (where there are at least --corner-min of them), and the error after.
@@ -102,6 +103,39 @@ def motion_lag(d):
     return b, float(np.median(norms(e))), float(np.median(norms(e - b * u)))
 
 
+AGE_EDGES_S = (0.0, 0.05, 0.2, 0.5, float("inf"))
+TURN_EDGES_DEG = (0.0, 15.0, 45.0, 90.0, 180.01)
+
+
+def error_by_turn_and_age(d):
+    """Median |error| (and count) per bin of turn (the angle between the true image motion at the
+    measurement and its mean over the track's first 20 ms) and age; {(turn bin, age bin): (median, n)}.
+    Measurements whose image moves slower than MIN_SPEED, and tracks that start slower, are left out."""
+    turns, ages, errors = [], [], []
+    for t, e, truth in tracks(d):
+        v = np.gradient(truth, t, axis=0)
+        speed = norms(v)
+        v0 = v[(t - t[0]) <= 0.02].mean(0)
+        if np.linalg.norm(v0) < MIN_SPEED_PX_S:
+            continue
+        moving = speed > MIN_SPEED_PX_S
+        cosine = (v[moving] @ v0) / (speed[moving] * np.linalg.norm(v0))
+        turns.append(np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0))))
+        ages.append((t - t[0])[moving])
+        errors.append(norms(e)[moving])
+    table = {}
+    if not errors:
+        return table
+    turn, age, error = np.concatenate(turns), np.concatenate(ages), np.concatenate(errors)
+    for i in range(len(TURN_EDGES_DEG) - 1):
+        for j in range(len(AGE_EDGES_S) - 1):
+            s = (turn >= TURN_EDGES_DEG[i]) & (turn < TURN_EDGES_DEG[i + 1]) & (age >= AGE_EDGES_S[j]) & (
+                age < AGE_EDGES_S[j + 1])
+            if s.any():
+                table[(i, j)] = (float(np.median(error[s])), int(s.sum()))
+    return table
+
+
 def snapped_to_corners(d, corners, radius, window_s, min_corners):
     """Median |error| with each track's mean removed, before and after moving each measurement by the
     median offset of the nearby corner events; and how many measurements moved, of how many."""
@@ -161,6 +195,15 @@ def main(argv=None):
     b, before, after = motion_lag(d)
     print("lag along the true image motion %.3f px; error less its track mean %.3f px, less the lag too %.3f px"
           % (b, before, after))
+    table = error_by_turn_and_age(d)
+    print("median |error| px (measurements) by the turn of the image motion since the track's first 20 ms"
+          " and the age")
+    print("turn \\ age       " + "".join("%-16s" % ("%g-%g s" % (AGE_EDGES_S[j], AGE_EDGES_S[j + 1]))
+                                       for j in range(len(AGE_EDGES_S) - 1)))
+    for i in range(len(TURN_EDGES_DEG) - 1):
+        cells = ["%.3f (%d)" % table[(i, j)] if (i, j) in table else "-" for j in range(len(AGE_EDGES_S) - 1)]
+        print("%-17s" % ("%g-%g deg" % (TURN_EDGES_DEG[i], min(TURN_EDGES_DEG[i + 1], 180)))
+              + "".join("%-16s" % c for c in cells))
     if corners is not None:
         before, after, moved, total = snapped_to_corners(d, corners, args.corner_radius,
                                                          args.corner_window_ms * 1e-3, args.corner_min)

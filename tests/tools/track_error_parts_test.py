@@ -76,7 +76,19 @@ with tempfile.TemporaryDirectory() as root:
     check(moved == total == 80, "every measurement has corners near it (%d of %d)" % (moved, total))
     check(before > 0.05 and after < 0.01, "the corners pull the wander back (%.3f -> %.3g px)" % (before, after))
 
-    # 5. A malformed line is named with its file and line; the command exits non-zero.
+    # 5. The lag tracks of case 1 (turning at 2 pi rad/s, a constant 0.3 px): the same error in every cell;
+    #    a straight track whose error grows with its age: larger in the older cells only.
+    table = tep.error_by_turn_and_age(tep.read_dump(os.path.join(root, "lag.txt")))
+    check(all(abs(m - 0.3) < 1e-3 for m, _ in table.values()) and len(table) >= 8,
+          "a constant error is the same at every turn and age (%d cells)" % len(table))
+    rows = [(4, 0.005 * k, 20 + 100 * 0.005 * k, 60 + 0.5 * 0.005 * k, 20 + 100 * 0.005 * k, 60)
+            for k in range(200)]
+    write(os.path.join(root, "growing.txt"), rows)
+    table = tep.error_by_turn_and_age(tep.read_dump(os.path.join(root, "growing.txt")))
+    check(set(i for i, _ in table) == {0}, "a straight track stays in the first turn bin")
+    check(table[(0, 3)][0] > table[(0, 1)][0] > table[(0, 0)][0], "its error grows with the age bins")
+
+    # 6. A malformed line is named with its file and line; the command exits non-zero.
     bad = os.path.join(root, "bad.txt")
     with open(bad, "w") as f:
         f.write("# id t x y x_true y_true\n1 0.0 1 2 3 4\n1 0.1 1 nan 3 4\n")
