@@ -7,6 +7,10 @@
 //   frontend_eval [--yaml 'frontend: {min_dt_ms: 1}'] [--accel] [--tracks FILE] DIR...
 //   frontend_eval [--yaml ...] [--worst N] --sim SCENE:MOTION:SECONDS[:SEED] ...   e.g. --sim shapes:6dof:2
 //   frontend_eval --synthetic
+// DIR is any dataset folder (events.aevt, events.txt, ...; docs/reference/formats.md).
+// --time-offset-ms MS: simulated data: each measurement compared with the truth MS later (the tracker's
+// effective delay is the offset with the smallest error; docs/results/track_errors.md).
+// --corners FILE: DIR: every corner event of the detector run over all events, `t x y score` per line.
 #include <fmt/format.h>
 
 #include <Eigen/Geometry>
