@@ -20,7 +20,8 @@
 // (pixel = truth + F (measured - truth)): what uniformly better (F < 1) tracks of the same features give.
 // --oracle-min-age-ms MS: --oracle-scale only for measurements at least MS after their track's first (what
 // tracks whose error stopped growing with age would give).
-// Both measure the error against the ray of the feature's first measurement, as frontend_eval does.
+// The oracle flags measure the error against the ray of the feature's first measurement, as
+// frontend_eval does.
 // --skip-ms: measurements in the first MS milliseconds after the first one are skipped, as if the
 // recording had begun that much later (for the frontend's tracks as they were): the start comes from other
 // windows of the same tracks. How much a sequence's result depends on when its start happens
@@ -45,9 +46,9 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
-#include <set>
 #include <optional>
 #include <random>
+#include <set>
 #include <sstream>
 #include <string>
 

@@ -27,8 +27,8 @@
 #include "asynevo/core/config/config.hpp"
 #include "asynevo/frontend/corner_detector.hpp"
 #include "asynevo/frontend/frontend.hpp"
-#include "asynevo/frontend/sae.hpp"
 #include "asynevo/frontend/rotation_check.hpp"
+#include "asynevo/frontend/sae.hpp"
 #include "asynevo/io/calibration_io.hpp"
 #include "asynevo/io/dataset.hpp"
 #include "asynevo/io/event_reader.hpp"
@@ -207,13 +207,9 @@ void evaluateSimulated(const Config& config, const std::string& spec, int worst,
 void writeCorners(const Config& config, const std::vector<Event>& events, int width, int height,
                   const std::string& path) {
   frontend::SurfaceOfActiveEvents sae(width, height, std::llround(config.frontend.refractory_period_ms * 1e6));
-  frontend::DetectorParams params;
-  params.harris_threshold = config.frontend.harris_threshold;
-  params.harris_k = config.frontend.harris_k;
-  params.harris_latest = config.frontend.harris_latest;
-  frontend::CornerDetector detector(sae, params);
+  frontend::CornerDetector detector(sae, frontend::Frontend::detectorParams(config.frontend));
   std::ofstream out(path);
-  out << "# t x y score  (every FA-Harris corner event)\n";
+  out << "# t x y score  (every corner event of the configured detector)\n";
   uint64_t n = 0;
   for (const Event& e : events) {
     if (e.x >= width || e.y >= height) continue;

@@ -309,14 +309,8 @@ class ArrowProblem {
     for (const Factor& f : factors_) {
       const auto& sizes = f.entry->cost->parameter_block_sizes();
       const Eigen::Map<const Eigen::VectorXd> r(residuals_.data() + f.residual_offset, f.residuals);
-      if (f.linear_prior) {  // exact: a linear prior's normal equations at the current values
-        f.linear_prior->normalEquations(f.entry->blocks.data(), prior_information_, prior_gradient_);
-        int ci = 0;
-        for (int i = 0; i < f.blocks; ++i) {
-          const Variable& vi = variables_[blockVariable(f, i)];
-          if (!vi.constant) g_.segment(vi.offset, vi.tangent) += prior_gradient_.segment(ci, vi.tangent);
-          ci += vi.tangent;
-        }
+      if (f.linear_prior) {  // exact: a linear prior's gradient at the current values
+        accumulateLinearPrior(f, false);
         continue;
       }
       for (int b = 0; b < f.blocks; ++b) {
@@ -540,8 +534,9 @@ class ArrowProblem {
     }
   }
 
-  /// A linear prior's normal equations (LinearPriorFactor::normalEquations), lower blocks.
-  void accumulateLinearPrior(const Factor& f) {
+  /// A linear prior's normal equations (LinearPriorFactor::normalEquations), lower blocks; with
+  /// `with_information` false its gradient alone.
+  void accumulateLinearPrior(const Factor& f, bool with_information = true) {
     f.linear_prior->normalEquations(f.entry->blocks.data(), prior_information_, prior_gradient_);
     int ci = 0;
     for (int i = 0; i < f.blocks; ++i) {
@@ -549,7 +544,7 @@ class ArrowProblem {
       if (!vi.constant) {
         g_.segment(vi.offset, vi.tangent) += prior_gradient_.segment(ci, vi.tangent);
         int cj = 0;
-        for (int j = 0; j < f.blocks; ++j) {
+        for (int j = 0; with_information && j < f.blocks; ++j) {
           const Variable& vj = variables_[blockVariable(f, j)];
           if (!vj.constant && vj.offset <= vi.offset)
             H_.block(vi.offset, vj.offset, vi.tangent, vj.tangent) += prior_information_.block(ci, cj, vi.tangent, vj.tangent);

@@ -153,9 +153,7 @@ void Frontend::IdMap::erase(int64_t id) {
 
 // ---- Frontend ------------------------------------------------------------------------------------
 
-namespace {
-
-DetectorParams detectorParams(const FrontendConfig& c) {
+DetectorParams Frontend::detectorParams(const FrontendConfig& c) {
   DetectorParams p;
   p.kind = c.detector == "arc_star" ? DetectorKind::kArcStar : DetectorKind::kFaHarris;
   p.harris_threshold = c.harris_threshold;
@@ -163,6 +161,8 @@ DetectorParams detectorParams(const FrontendConfig& c) {
   p.harris_latest = c.harris_latest;
   return p;
 }
+
+namespace {
 
 HasteParams hasteParams(const FrontendConfig& c) {
   HasteParams p;

@@ -128,6 +128,8 @@ class Frontend {
 
   /// The binning factor b (FrontendConfig::binning with auto resolved) for a sensor of this size.
   static int binningFor(const FrontendConfig& config, int width, int height);
+  /// The corner detector's parameters of `config` (its detector and threshold, before any adaptation).
+  static DetectorParams detectorParams(const FrontendConfig& config);
   /// b: the frontend works on a (width / b) x (height / b) image (FrontendConfig::binning).
   int binning() const { return 1 << bin_shift_; }
 

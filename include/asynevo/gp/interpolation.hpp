@@ -175,14 +175,12 @@ class PoseInterpolator {
     xi_tau_ = weights.lambda12 * w_k + weights.psi11 * segment.xi + weights.psi12 * segment.J_inv_w_k1;
     if (has_jacobians_) {
       T_k_tau_ = lie::se3::expWithRightJacobian(xi_tau_, J_tau_);
+      W_ = weights.psi12 * segment.M;
+      W_.diagonal().array() += weights.psi11;
     } else {
       T_k_tau_ = lie::se3::exp(xi_tau_);
     }
     T_tau_ = T_k * T_k_tau_;
-    if (has_jacobians_) {
-      W_ = weights.psi12 * segment.M;
-      W_.diagonal().array() += weights.psi11;
-    }
   }
 
   std::optional<SegmentTerms> owned_;  ///< the terms, when this interpolator computed them
