@@ -165,13 +165,12 @@ void frontendBench(benchmark::State& state, const std::string& tracker) {
   const CameraModel camera =
       index == 7 ? simulatedDvxplorer().camera
                  : readEcdCalibration(std::string(ASYNEVO_SOURCE_DIR) + "/tests/data/ecd/shapes_rotation/calib.txt");
-  const auto table = camera.undistortionTable<float>();
   EventPacket packet;  // the stream as one packet, as the CLI feeds a reader's packets
   packet.events = events;
   FrontendStats stats;
   for (auto _ : state) {
     state.PauseTiming();
-    auto fe = std::make_unique<Frontend>(config, camera.width(), camera.height(), table);
+    auto fe = std::make_unique<Frontend>(config, camera);
     NullSink sink;
     state.ResumeTiming();
     fe->process(packet, sink);

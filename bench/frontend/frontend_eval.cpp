@@ -193,8 +193,7 @@ void evaluateSimulated(const Config& config, const std::string& spec, int worst,
     throw std::invalid_argument("--sim takes SCENE:MOTION:SECONDS[:SEED], got " + spec);
   const uint64_t seed = parts.size() == 4 ? std::stoull(parts[3]) : 1;
   const bench::SimSequence s = bench::simulateSequence(parts[0], parts[1], std::stod(parts[2]), seed);
-  const bench::FrontendRun run = bench::runFrontend(config.frontend, s.events, s.camera.width(),
-                                                    s.camera.height(), s.camera.undistortionTable<float>());
+  const bench::FrontendRun run = bench::runFrontend(config.frontend, s.events, s.camera);
   const frontend::MeasurementCollector& out = run.out;
   fmt::print("== simulated {} ({:.2f} s, seed {}, {} events)\n{}", s.name, std::stod(parts[2]), seed,
              s.events.size(), run.stats.summary());
@@ -273,19 +272,18 @@ int main(int argc, char** argv) try {
     const DatasetFiles files = resolveDataset(dir);  // events.aevt, events.txt, ...
     const std::vector<Event> events = readAllEvents(files.events);
     const CameraModel camera = readEcdCalibration(dir + "/calib.txt");
-    const bench::FrontendRun run = bench::runFrontend(config.frontend, events, camera.width(), camera.height(),
-                                                      camera.undistortionTable<float>());
+    const bench::FrontendRun run = bench::runFrontend(config.frontend, events, camera);
     const frontend::MeasurementCollector& out = run.out;
     fmt::print("== {}\n{}", dir, run.stats.summary());
     if (!corners_path.empty()) writeCorners(config, events, camera.width(), camera.height(), corners_path);
-    if (sim::isSimulatedDataset(dir)) {
-      printAccuracy(out.measurements, sim::loadSimulatedGroundTruth(dir), worst, accuracy);
-      continue;
-    }
     if (!tracks_path.empty()) {
       std::ofstream f(tracks_path);
       for (const auto& m : out.measurements)
         f << fmt::format("{} {:.9f} {:.3f} {:.3f}\n", m.feature_id, m.t_ns * 1e-9, m.x, m.y);
+    }
+    if (sim::isSimulatedDataset(dir)) {
+      printAccuracy(out.measurements, sim::loadSimulatedGroundTruth(dir), worst, accuracy);
+      continue;
     }
     frontend::RotationFitOptions options;
     options.with_acceleration = accel;

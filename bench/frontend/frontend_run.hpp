@@ -33,6 +33,17 @@ inline FrontendRun runFrontend(const FrontendConfig& config, const std::vector<E
   return run;
 }
 
+/// Feeds every event to a fresh frontend for `camera`'s sensor (rectified tracking as configured).
+inline FrontendRun runFrontend(const FrontendConfig& config, const std::vector<Event>& events,
+                               const CameraModel& camera) {
+  frontend::Frontend fe(config, camera);
+  FrontendRun run;
+  for (const Event& e : events) fe.process(e, run.out);
+  fe.finish(run.out);
+  run.stats = fe.stats();
+  return run;
+}
+
 /// Exact tracking error on syntheticStream(..., speed_px_s, ...): per track, at each measurement,
 /// |(p(t) - p(t0)) + (offset(t) - offset(t0))| with t0 the track's first measurement (0 there).
 struct SyntheticAccuracy {

@@ -92,6 +92,8 @@ std::string FrontendStats::summary() const {
     s += fmt::format(" {}={}", dropReasonName(static_cast<DropReason>(r)), features_dropped[r]);
   s += fmt::format("\nmeasurements      {} ({:.0f}/s), {} without undistortion\n", measurements,
                    perSecond(measurements), measurements_without_undistortion);
+  if (events_without_position > 0)
+    s += fmt::format("not tracked       {} events of pixels without a rectified position\n", events_without_position);
   if (neighbour_tests > 0) s += fmt::format("neighbour test    {} feature evaluations\n", neighbour_tests);
   return s;
 }
@@ -193,22 +195,34 @@ int log2Of(int power_of_two) {
 int binnedExtent(int size, int shift) { return (size + (1 << shift) - 1) >> shift; }
 }  // namespace
 
+Frontend::Frontend(const FrontendConfig& config, const CameraModel& camera)
+    : Frontend(config, camera.width(), camera.height(),
+               config.rectified_tracking ? UndistortionTable<float>{} : camera.undistortionTable<float>(),
+               config.rectified_tracking
+                   ? std::optional<TrackingFrame>(std::in_place, camera, log2Of(binningFor(config, camera.width(),
+                                                                                          camera.height())))
+                   : std::nullopt) {}
+
 Frontend::Frontend(const FrontendConfig& config, int width, int height, UndistortionTable<float> undistortion)
+    : Frontend(config, width, height, std::move(undistortion), std::nullopt) {}
+
+Frontend::Frontend(const FrontendConfig& config, int width, int height, UndistortionTable<float> undistortion,
+                   std::optional<TrackingFrame> frame)
     : config_(config),
       bin_shift_(log2Of(binningFor(config, width, height))),
       sensor_width_(width),
       sensor_height_(height),
       width_(binnedExtent(width, bin_shift_)),
       height_(binnedExtent(height, bin_shift_)),
-      undistortion_(std::move(undistortion)),
+      frame_(frame ? std::move(*frame) : TrackingFrame(width_, height_, bin_shift_, std::move(undistortion))),
       sae_(width_, height_, msToNs(config.refractory_period_ms)),
       detector_(sae_, detectorParams(config)),
-      registration_(static_cast<std::size_t>(width_) * height_, -1),
+      registration_(static_cast<std::size_t>(frame_.gridWidth()) * frame_.gridHeight(), -1),
       pixel_events_(static_cast<std::size_t>(width_) * height_, 0),
       slots_(config.max_features),
       id_map_(config.max_features),
-      grid_w_((width_ + (1 << kCellShift) - 1) >> kCellShift),
-      grid_h_((height_ + (1 << kCellShift) - 1) >> kCellShift),
+      grid_w_((frame_.gridWidth() + (1 << kCellShift) - 1) >> kCellShift),
+      grid_h_((frame_.gridHeight() + (1 << kCellShift) - 1) >> kCellShift),
       cell_heads_(static_cast<std::size_t>(grid_w_) * grid_h_, -1),
       max_reversal_ns_(std::llround(config.max_time_reversal_us * 1e3)),
       min_dt_ns_(msToNs(config.min_dt_ms)),
@@ -232,9 +246,9 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
     noise_filter_ = std::make_unique<BackgroundActivityFilter>(width_, height_, msToNs(config.noise_filter_ms));
   if (config.max_event_rate_mev_s > 0)
     rate_budget_ = std::make_unique<EventRateBudget>(config.max_event_rate_mev_s * 1e6, kRateWindowNs);
-  if (undistortion_.width() != 0 && (undistortion_.width() != width || undistortion_.height() != height))
+  if (undistortion.width() != 0 && (undistortion.width() != width || undistortion.height() != height))
     throw Error(fmt::format("frontend: undistortion table is {}x{} but the sensor is {}x{}",
-                            undistortion_.width(), undistortion_.height(), width, height));
+                            undistortion.width(), undistortion.height(), width, height));
   const HasteParams haste = hasteParams(config);
   free_slots_.reserve(slots_.size());
   for (int i = static_cast<int>(slots_.size()) - 1; i >= 0; --i) {
@@ -254,15 +268,6 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
 }
 
 Frontend::~Frontend() = default;
-
-bool Frontend::normalize(float x, float y, float& xn, float& yn) const {
-  if (undistortion_.width() == 0) {
-    xn = x;
-    yn = y;
-    return true;
-  }
-  return undistortion_.interpolate(x, y, xn, yn);
-}
 
 void Frontend::cellInsert(int slot, int cell) {
   assert(cell >= 0 && cell < static_cast<int>(cell_heads_.size()));
@@ -333,9 +338,14 @@ void Frontend::process(const Event& raw, MeasurementSink& sink) {
   const bool accepted = sae_.update(e);
   stats_.filter_accepted += accepted ? 1 : 0;
 
-  // Dispatch to the trackers of the 3x3 cells around the event.
-  const float ex = e.x, ey = e.y;
-  const int cx = e.x >> kCellShift, cy = e.y >> kCellShift;
+  // Dispatch to the trackers of the 3x3 cells around the event's tracking-frame position.
+  float ex, ey;
+  if (!frame_.position(e.x, e.y, ex, ey)) {
+    ++stats_.events_without_position;
+    return;
+  }
+  const int cx = static_cast<int>(ex - frame_.originX()) >> kCellShift;
+  const int cy = static_cast<int>(ey - frame_.originY()) >> kCellShift;
   const int gx0 = std::max(cx - 1, 0), gx1 = std::min(cx + 1, grid_w_ - 1);
   const int gy0 = std::max(cy - 1, 0), gy1 = std::min(cy + 1, grid_h_ - 1);
   bool used = false;
@@ -370,7 +380,7 @@ void Frontend::process(const Event& raw, MeasurementSink& sink) {
   stats_.candidates += corner.candidate ? 1 : 0;
   if (!corner.corner) return;
   ++stats_.corners;
-  trySeed(e);
+  trySeed(e, ex, ey);
 }
 
 void Frontend::onStateChange(int slot, int64_t t_ns, MeasurementSink& sink) {
@@ -379,9 +389,7 @@ void Frontend::onStateChange(int slot, int64_t t_ns, MeasurementSink& sink) {
   if (!tracker.healthy()) return drop(slot, DropReason::kUnhealthy, t_ns, sink);
   ++stats_.state_changes;
   const TrackerState& st = tracker.state();
-  if (!(st.x >= border_margin_ && st.y >= border_margin_ && st.x <= float(width_ - 1) - border_margin_ &&
-        st.y <= float(height_ - 1) - border_margin_))
-    return drop(slot, DropReason::kBorder, t_ns, sink);
+  if (!frame_.inside(st.x, st.y, border_margin_)) return drop(slot, DropReason::kBorder, t_ns, sink);
   s.last_change_ns = t_ns;
   s.scene_changes_at_last_change = stats_.state_changes;
   if (!s.history.empty()) {  // neighbour-motion test enabled: remember the state
@@ -401,17 +409,18 @@ void Frontend::onStateChange(int slot, int64_t t_ns, MeasurementSink& sink) {
   }
 
   // Registration table: collisions with another feature within the collision radius.
-  const int rx = std::clamp(static_cast<int>(std::lround(st.x)), 0, width_ - 1);
-  const int ry = std::clamp(static_cast<int>(std::lround(st.y)), 0, height_ - 1);
-  const int reg = ry * width_ + rx;
+  const int grid_w = frame_.gridWidth(), grid_h = frame_.gridHeight();
+  const int rx = std::clamp(static_cast<int>(std::lround(st.x - frame_.originX())), 0, grid_w - 1);
+  const int ry = std::clamp(static_cast<int>(std::lround(st.y - frame_.originY())), 0, grid_h - 1);
+  const int reg = ry * grid_w + rx;
   if (reg != s.reg_index) {
     if (s.reg_index >= 0 && registration_[s.reg_index] == s.id) registration_[s.reg_index] = -1;
     s.reg_index = -1;
     const float radius = static_cast<float>(config_.collision_radius_px);
     const int r = static_cast<int>(std::ceil(radius));
-    for (int y = std::max(ry - r, 0); y <= std::min(ry + r, height_ - 1); ++y) {
-      for (int x = std::max(rx - r, 0); x <= std::min(rx + r, width_ - 1); ++x) {
-        const int64_t other = registration_[static_cast<std::size_t>(y) * width_ + x];
+    for (int y = std::max(ry - r, 0); y <= std::min(ry + r, grid_h - 1); ++y) {
+      for (int x = std::max(rx - r, 0); x <= std::min(rx + r, grid_w - 1); ++x) {
+        const int64_t other = registration_[static_cast<std::size_t>(y) * grid_w + x];
         if (other < 0 || other == s.id) continue;
         const int other_slot = id_map_.find(other);
         assert(other_slot >= 0);
@@ -436,20 +445,14 @@ void Frontend::onStateChange(int slot, int64_t t_ns, MeasurementSink& sink) {
   TrackMeasurement m;
   m.feature_id = s.id;
   m.t_ns = st.t_ns;
-  m.x = st.x;
-  m.y = st.y;
+  float x = st.x, y = st.y;
   if (config_.subpixel_measurements) {
     float dx = 0.f, dy = 0.f;
     tracker.subpixelOffset(dx, dy);
-    m.x += dx;
-    m.y += dy;
+    x += dx;
+    y += dy;
   }
-  if (bin_shift_ > 0) {  // back to sensor pixels: binned pixel centre (x + 0.5) b - 0.5
-    const float b = static_cast<float>(1 << bin_shift_);
-    m.x = (m.x + 0.5f) * b - 0.5f;
-    m.y = (m.y + 0.5f) * b - 0.5f;
-  }
-  if (!normalize(m.x, m.y, m.xn, m.yn)) {
+  if (!frame_.measurement(x, y, m.x, m.y, m.xn, m.yn)) {
     ++stats_.measurements_without_undistortion;
     return;
   }
@@ -460,19 +463,22 @@ void Frontend::onStateChange(int slot, int64_t t_ns, MeasurementSink& sink) {
   sink.onMeasurement(m);
 }
 
-void Frontend::trySeed(const Event& e) {
-  const float x = e.x, y = e.y;
-  if (!(x >= border_margin_ && y >= border_margin_ && x <= float(width_ - 1) - border_margin_ &&
-        y <= float(height_ - 1) - border_margin_))
+void Frontend::trySeed(const Event& e, float x, float y) {
+  const float px = e.x, py = e.y;  // the border is the sensor's, in its pixels
+  if (!(px >= border_margin_ && py >= border_margin_ && px <= float(width_ - 1) - border_margin_ &&
+        py <= float(height_ - 1) - border_margin_))
     return;
-  // Patch search: no registered feature within min_distance.
+  // Patch search: no registered feature within min_distance (on the tracking frame's grid).
+  const int grid_w = frame_.gridWidth(), grid_h = frame_.gridHeight();
+  const int gx = static_cast<int>(std::lround(x - frame_.originX()));
+  const int gy = static_cast<int>(std::lround(y - frame_.originY()));
   const double d = min_distance_px_;
   const int r = static_cast<int>(std::floor(d));
-  for (int yy = std::max(e.y - r, 0); yy <= std::min(e.y + r, height_ - 1); ++yy) {
-    const int64_t* row = &registration_[static_cast<std::size_t>(yy) * width_];
-    const int dy = yy - e.y;
-    for (int xx = std::max(e.x - r, 0); xx <= std::min(e.x + r, width_ - 1); ++xx) {
-      const int dx = xx - e.x;
+  for (int yy = std::max(gy - r, 0); yy <= std::min(gy + r, grid_h - 1); ++yy) {
+    const int64_t* row = &registration_[static_cast<std::size_t>(yy) * grid_w];
+    const int dy = yy - gy;
+    for (int xx = std::max(gx - r, 0); xx <= std::min(gx + r, grid_w - 1); ++xx) {
+      const int dx = xx - gx;
       if (row[xx] >= 0 && dx * dx + dy * dy <= d * d) return;
     }
   }
@@ -492,10 +498,10 @@ void Frontend::trySeed(const Event& e) {
   s.tracker->push(e.t_ns, x, y);  // the seed event is the first of its window
   s.x = s.tracker->state().x;
   s.y = s.tracker->state().y;
-  s.reg_index = e.y * width_ + e.x;
+  s.reg_index = gy * grid_w + gx;
   registration_[s.reg_index] = s.id;
   id_map_.insert(s.id, slot);
-  cellInsert(slot, cellOf(e.x, e.y));
+  cellInsert(slot, cellOf(gx, gy));
   ++stats_.features_created;
   ++stats_.active_features;
   stats_.max_active_features = std::max(stats_.max_active_features, stats_.active_features);

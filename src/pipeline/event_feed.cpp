@@ -30,8 +30,7 @@ EventFeed::EventFeed(Config config, const CameraModel& camera, BackendKind backe
   config_.sensor.height = camera.height();
   config_.validate();
   config_.validateForSensor();
-  frontend_ = std::make_unique<frontend::Frontend>(config_.frontend, camera.width(), camera.height(),
-                                                   camera.undistortionTable<float>());
+  frontend_ = std::make_unique<frontend::Frontend>(config_.frontend, camera);
   estimator_ = makeEstimator(backend, config_, camera, *frontend_, false);
   sink_ = std::make_unique<DirectSink>(*estimator_, measurements_);
 }

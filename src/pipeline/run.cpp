@@ -115,8 +115,7 @@ void runEvents(EventReader& reader, const CameraModel& camera, const Config& con
                const RunOptions& options, RunFolderWriter& writer, RunSummary& summary,
                const std::function<void(const PipelineProgress&)>& progress, PipelineOutput* observer) {
   writer.writeConfig(config);
-  frontend::Frontend fe(config.frontend, reader.info().width, reader.info().height,
-                        camera.undistortionTable<float>());
+  frontend::Frontend fe(config.frontend, camera);
   std::unique_ptr<backend::Estimator> estimator_ptr =
       makeEstimator(options.backend, config, camera, fe, options.real_time);
   backend::Estimator& estimator = *estimator_ptr;
@@ -409,6 +408,7 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("state_changes", f.state_changes)
       .add("measurements", f.measurements)
       .add("measurements_without_undistortion", f.measurements_without_undistortion)
+      .add("events_without_position", f.events_without_position)
       .add("features_created", f.features_created)
       .add("max_active_features", f.max_active_features)
       .add("harris_threshold_end", f.harris_threshold)

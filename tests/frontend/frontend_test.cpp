@@ -406,13 +406,17 @@ TEST(Frontend, UndistortionTableGivesNormalizedCoordinates) {
   for (int y = 0; y < 30; ++y)
     for (int x = 0; x < 40; ++x) table.set(x, y, (x - 20) / 100.f, (y - 15) / 100.f, !(x == 0 && y == 0));
   Frontend fe(FrontendConfig{}, 40, 30, table);
-  float xn, yn;
-  ASSERT_TRUE(fe.normalize(25.5f, 10.25f, xn, yn));
+  const TrackingFrame& frame = fe.trackingFrame();
+  EXPECT_FALSE(frame.rectified());
+  float u, v, xn, yn;
+  ASSERT_TRUE(frame.measurement(25.5f, 10.25f, u, v, xn, yn));
+  EXPECT_EQ(u, 25.5f);
+  EXPECT_EQ(v, 10.25f);
   EXPECT_NEAR(xn, 0.055f, 1e-6);
   EXPECT_NEAR(yn, -0.0475f, 1e-6);
-  EXPECT_TRUE(fe.normalize(39.f, 29.f, xn, yn));
-  EXPECT_FALSE(fe.normalize(0.5f, 0.5f, xn, yn));  // touches the invalid entry
-  EXPECT_FALSE(fe.normalize(-1.f, 3.f, xn, yn));
+  EXPECT_TRUE(frame.measurement(39.f, 29.f, u, v, xn, yn));
+  EXPECT_FALSE(frame.measurement(0.5f, 0.5f, u, v, xn, yn));  // touches the invalid entry
+  EXPECT_FALSE(frame.measurement(-1.f, 3.f, u, v, xn, yn));
   EXPECT_THROW(Frontend(FrontendConfig{}, 41, 30, table), asynevo::Error);
 }
 

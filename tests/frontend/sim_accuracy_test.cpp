@@ -4,7 +4,10 @@
 // Figures for longer sequences and for the scenes where the targets are missed: docs/frontend.md.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
+#include <vector>
 
 #include "../../bench/frontend/frontend_run.hpp"
 #include "../../bench/frontend/sim_sequence.hpp"
@@ -14,11 +17,13 @@ namespace asynevo::frontend {
 namespace {
 
 sim::FeatureAccuracy run(const std::string& scene, const std::string& motion, double seconds, uint64_t seed,
-                         const FrontendConfig& config = {}, FrontendStats* stats = nullptr) {
+                         const FrontendConfig& config = {}, FrontendStats* stats = nullptr,
+                         std::vector<TrackMeasurement>* measurements = nullptr, CameraModel* camera = nullptr) {
   const bench::SimSequence s = bench::simulateSequence(scene, motion, seconds, seed);
-  const bench::FrontendRun fe = bench::runFrontend(config, s.events, s.camera.width(), s.camera.height(),
-                                                   s.camera.undistortionTable<float>());
+  const bench::FrontendRun fe = bench::runFrontend(config, s.events, s.camera);
   const sim::FeatureAccuracy r = sim::evaluateFeatureTracks(fe.out.measurements, *s.ground_truth);
+  if (measurements != nullptr) *measurements = fe.out.measurements;
+  if (camera != nullptr) *camera = s.camera;
   std::printf("%s (%.1f s, seed %llu):\n%s", s.name.c_str(), seconds, static_cast<unsigned long long>(seed),
               r.summary().c_str());
   if (stats != nullptr) *stats = fe.stats;
@@ -65,6 +70,27 @@ TEST(SimulatedAccuracy, PosterSixDofMeetsTheMedianAndBoundsTheBadTracks) {
   ASSERT_GE(r.all.tracks, 60);
   EXPECT_LE(r.all.median_px, 1.0);
   EXPECT_LE(r.all.bad_tracks, 3) << "tracks with error > 5 px surviving > 20 ms";
+}
+
+// Rectified tracking (docs/method/frontend.md, "Tracking frame"): the trackers run on the undistorted
+// pinhole image, and each measurement's sensor pixel and normalized coordinates are the same point
+// through the camera model. The tracks meet the same targets as on the raw pixels.
+TEST(SimulatedAccuracy, RectifiedTrackingMeetsTheTargetsAndMeasuresConsistently) {
+  FrontendConfig config;
+  config.rectified_tracking = true;
+  std::vector<TrackMeasurement> measurements;
+  CameraModel camera = CameraModel::davis240cEcd();
+  const sim::FeatureAccuracy r = run("shapes", "6dof", 0.6, 1, config, nullptr, &measurements, &camera);
+  ASSERT_GE(r.all.tracks, 30);
+  EXPECT_LE(r.all.median_px, 1.0);
+  EXPECT_EQ(r.all.bad_tracks, 0) << "tracks with error > 5 px surviving > 20 ms";
+  ASSERT_FALSE(measurements.empty());
+  double worst = 0;
+  for (const TrackMeasurement& m : measurements) {
+    const Eigen::Vector2d ray = *camera.unproject(Eigen::Vector2d(m.x, m.y));
+    worst = std::max(worst, std::hypot(ray.x() - m.xn, ray.y() - m.yn) * camera.fx());
+  }
+  EXPECT_LT(worst, 0.01) << "px between a measurement's pixel and its normalized coordinates";
 }
 
 // Sub-pixel measurements (docs/frontend.md): the same tracks, measured between the grid positions.

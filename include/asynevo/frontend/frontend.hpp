@@ -21,9 +21,11 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "asynevo/core/camera/camera_model.hpp"
 #include "asynevo/core/camera/undistortion_table.hpp"
 #include "asynevo/core/config/frontend_config.hpp"
 #include "asynevo/core/event.hpp"
@@ -33,6 +35,7 @@
 #include "asynevo/frontend/haste_tracker.hpp"
 #include "asynevo/frontend/sae.hpp"
 #include "asynevo/frontend/track_measurement.hpp"
+#include "asynevo/frontend/tracking_frame.hpp"
 
 namespace asynevo::frontend {
 
@@ -93,6 +96,9 @@ struct FrontendStats {
   uint64_t state_changes = 0;
   uint64_t measurements = 0;
   uint64_t measurements_without_undistortion = 0;  ///< skipped: invalid undistortion table entry
+  /// events of a pixel without a rectified position (its undistortion did not converge): counted, not
+  /// tracked or detected
+  uint64_t events_without_position = 0;
   uint64_t features_created = 0;
   uint64_t neighbour_tests = 0;  ///< features evaluated by the neighbour-motion test (all checks)
   std::array<uint64_t, kDropReasonCount> features_dropped{};
@@ -122,6 +128,9 @@ class Frontend {
   /// `undistortion` maps raw pixels to normalized undistorted coordinates (CameraModel::
   /// undistortionTable<float>()); an empty table means identity (xn = x, yn = y), for tests.
   Frontend(const FrontendConfig& config, int width, int height, UndistortionTable<float> undistortion = {});
+  /// A frontend for `camera`'s sensor: measurements undistorted through its model; the trackers work in
+  /// the rectified frame when FrontendConfig::rectified_tracking is on (tracking_frame.hpp).
+  Frontend(const FrontendConfig& config, const CameraModel& camera);
   ~Frontend();
   Frontend(const Frontend&) = delete;
   Frontend& operator=(const Frontend&) = delete;
@@ -163,8 +172,12 @@ class Frontend {
   const FrontendStats& stats() const { return stats_; }
   int activeFeatures() const { return stats_.active_features; }
   const SurfaceOfActiveEvents& sae() const { return sae_; }
-  /// Feature id registered at a pixel, or -1.
-  int64_t registeredAt(int x, int y) const { return registration_[static_cast<std::size_t>(y) * width_ + x]; }
+  /// Feature id registered at a cell of the tracking frame's grid (a pixel in the raw frame), or -1.
+  int64_t registeredAt(int x, int y) const {
+    return registration_[static_cast<std::size_t>(y) * frame_.gridWidth() + x];
+  }
+  /// The coordinates the trackers work in (their states, FeatureView::state).
+  const TrackingFrame& trackingFrame() const { return frame_; }
 
   struct FeatureView {
     int64_t id;
@@ -193,10 +206,11 @@ class Frontend {
   /// dominated by a few pixels: hot pixels, a flickering light).
   std::vector<PixelCount> dominantPixels(double share, int max_pixels) const;
 
-  /// Normalized coordinates of a raw position (bilinear in the table); false when not available.
-  bool normalize(float x, float y, float& xn, float& yn) const;
-
  private:
+  /// The shared constructor: `frame` when given, else the raw frame with `undistortion`.
+  Frontend(const FrontendConfig& config, int width, int height, UndistortionTable<float> undistortion,
+           std::optional<TrackingFrame> frame);
+
   struct PositionSample {
     int64_t t_ns;
     float x, y;
@@ -266,10 +280,12 @@ class Frontend {
   /// its history does not reach back to t.
   bool positionAt(const Slot& s, int64_t t_ns, float& x, float& y) const;
   void neighbourCheck(int64_t t_ns, MeasurementSink& sink);
-  void trySeed(const Event& e);
+  /// A new feature at the corner event `e`, whose tracking-frame position is (x, y).
+  void trySeed(const Event& e, float x, float y);
   void drop(int slot, DropReason reason, int64_t t_ns, MeasurementSink& sink);
   void cellInsert(int slot, int cell);
   void cellRemove(int slot);
+  /// Dispatch cell of a tracking-frame grid position (position minus the frame's origin).
   int cellOf(int x, int y) const { return (y >> kCellShift) * grid_w_ + (x >> kCellShift); }
 
   static constexpr int kCellShift = 4;  ///< 16 px cells >= the tracker radius (15): 3x3 cells suffice
@@ -280,13 +296,13 @@ class Frontend {
   int sensor_height_;
   int width_;           ///< the binned image the frontend works on
   int height_;
-  UndistortionTable<float> undistortion_;
+  TrackingFrame frame_;
   std::unique_ptr<HotPixelFilter> hot_pixel_filter_;        ///< null when off
   std::unique_ptr<BackgroundActivityFilter> noise_filter_;  ///< null when off
   std::unique_ptr<EventRateBudget> rate_budget_;           ///< null when off
   SurfaceOfActiveEvents sae_;
   CornerDetector detector_;
-  std::vector<int64_t> registration_;  ///< W x H feature ids, -1 = empty
+  std::vector<int64_t> registration_;  ///< feature ids on the tracking frame's grid, -1 = empty
   std::vector<uint32_t> pixel_events_;  ///< W x H events received per pixel (saturating)
   std::vector<Slot> slots_;
   std::vector<int> free_slots_;

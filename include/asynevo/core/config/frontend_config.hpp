@@ -87,6 +87,9 @@ struct FrontendConfig {
   /// Measurements at the vertex of a parabola through the scores of the ±1 px hypotheses (x and y
   /// apart) instead of the 1-px state grid.
   bool subpixel_measurements = true;
+  /// The trackers work on the rectified (undistorted pinhole) image instead of the raw pixels
+  /// (frontend/tracking_frame.hpp); needs the camera model (Frontend(config, camera)).
+  bool rectified_tracking = false;
 
   template <class V>
   void visit(V& v) {
@@ -181,6 +184,9 @@ struct FrontendConfig {
     v("subpixel_measurements", subpixel_measurements,
       "measurements refined to the vertex of a parabola through the scores of the +-1 px hypotheses "
       "(false: the tracker's 1-px state)");
+    v("rectified_tracking", rectified_tracking,
+      "the trackers work on the undistorted pinhole image of the camera's intrinsics, where a patch keeps "
+      "its shape across the image (false: on the raw pixels, where the lens distortion warps it)");
   }
   void validate() const;
   /// The factor on min_distance_px and neighbour_radius_px for a frontend image of width x height:
