@@ -161,6 +161,7 @@ void frontendBench(benchmark::State& state, const std::string& tracker) {
   if (state.range(2) == 2) {  // the defaults without the neighbour-motion test (for its cost)
     config.max_neighbour_disagreement_px = 0;
   }
+  if (state.range(2) == 3) config.subpixel_method = "template_fit";  // the continuous sub-pixel fit
   // Stream 7 is 640x480 with its own camera; the others are 240x180 (ECD calibration).
   const CameraModel camera =
       index == 7 ? simulatedDvxplorer().camera
@@ -214,6 +215,8 @@ BENCHMARK(BM_FrontendCorrelationStar)
     ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6}, {0}, {1}})
     ->Args({4, 100, 1})
     ->Args({7, 120, 1})
+    ->Args({4, 100, 3})
+    ->Args({7, 120, 3})
     ->Args({5, 0, 0})
     ->Args({6, 0, 0})
     ->Args({5, 0, 2})

@@ -92,6 +92,8 @@ std::string FrontendStats::summary() const {
     s += fmt::format(" {}={}", dropReasonName(static_cast<DropReason>(r)), features_dropped[r]);
   s += fmt::format("\nmeasurements      {} ({:.0f}/s), {} without undistortion\n", measurements,
                    perSecond(measurements), measurements_without_undistortion);
+  if (subpixel_fit_failures > 0)
+    s += fmt::format("sub-pixel fit     {} failed (the parabola's offset used)\n", subpixel_fit_failures);
   if (events_without_position > 0)
     s += fmt::format("not tracked       {} events of pixels without a rectified position\n", events_without_position);
   if (neighbour_tests > 0) s += fmt::format("neighbour test    {} feature evaluations\n", neighbour_tests);
@@ -215,6 +217,7 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
       width_(binnedExtent(width, bin_shift_)),
       height_(binnedExtent(height, bin_shift_)),
       frame_(frame ? std::move(*frame) : TrackingFrame(width_, height_, bin_shift_, std::move(undistortion))),
+      fit_subpixel_(config.subpixel_method == "template_fit"),
       sae_(width_, height_, msToNs(config.refractory_period_ms)),
       detector_(sae_, detectorParams(config)),
       registration_(static_cast<std::size_t>(frame_.gridWidth()) * frame_.gridHeight(), -1),
@@ -448,7 +451,12 @@ void Frontend::onStateChange(int slot, int64_t t_ns, MeasurementSink& sink) {
   float x = st.x, y = st.y;
   if (config_.subpixel_measurements) {
     float dx = 0.f, dy = 0.f;
-    tracker.subpixelOffset(dx, dy);
+    if (!fit_subpixel_) {
+      tracker.subpixelOffset(dx, dy);
+    } else if (!tracker.subpixelFit(dx, dy)) {
+      ++stats_.subpixel_fit_failures;
+      tracker.subpixelOffset(dx, dy);
+    }
     x += dx;
     y += dy;
   }

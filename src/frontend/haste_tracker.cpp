@@ -3,6 +3,7 @@
 // wrapped theta, no allocation after construction).
 #include "asynevo/frontend/haste_tracker.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -405,6 +406,154 @@ void HasteTracker::subpixelOffset(float& dx, float& dy) const {
   // kOffsets: 1 = +x, 2 = −x, 3 = +y, 4 = −y (image axes).
   dx = parabolaVertex(scores_[2], scores_[0], scores_[1]);
   dy = parabolaVertex(scores_[4], scores_[0], scores_[3]);
+}
+
+namespace {
+// Keys' cubic convolution kernel (a = -0.5; R. Keys, "Cubic convolution interpolation for digital image
+// processing", IEEE TASSP 1981) at the 4 taps -1, 0, 1, 2 around a fraction f, with its first and second
+// derivatives in f.
+void keysWeights(double f, double w[4], double dw[4], double ddw[4]) {
+  const double f2 = f * f, f3 = f2 * f;
+  w[0] = -0.5 * f3 + f2 - 0.5 * f;
+  w[1] = 1.5 * f3 - 2.5 * f2 + 1;
+  w[2] = -1.5 * f3 + 2 * f2 + 0.5 * f;
+  w[3] = 0.5 * f3 - 0.5 * f2;
+  dw[0] = -1.5 * f2 + 2 * f - 0.5;
+  dw[1] = 4.5 * f2 - 5 * f;
+  dw[2] = -4.5 * f2 + 4 * f + 0.5;
+  dw[3] = 1.5 * f2 - f;
+  ddw[0] = -3 * f + 2;
+  ddw[1] = 9 * f - 5;
+  ddw[2] = -9 * f + 4;
+  ddw[3] = 3 * f - 1;
+}
+
+/// Value, gradient and Hessian of the cubic interpolation of a patch (zero outside it) at (x, y); false
+/// where no tap is inside.
+struct CubicSample {
+  double v = 0, gx = 0, gy = 0, hxx = 0, hxy = 0, hyy = 0;
+};
+bool cubicSample(const HasteTracker::Patch& t, double x, double y, CubicSample& out) {
+  constexpr int kP = HasteTracker::kPatchSize;
+  if (!(x > -1 && y > -1 && x < kP && y < kP)) return false;
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  double wx[4], dwx[4], ddwx[4], wy[4], dwy[4], ddwy[4];
+  keysWeights(x - x0, wx, dwx, ddwx);
+  keysWeights(y - y0, wy, dwy, ddwy);
+  out = CubicSample{};
+  for (int j = 0; j < 4; ++j) {
+    const int yy = y0 - 1 + j;
+    if (yy < 0 || yy >= kP) continue;
+    double rv = 0, rd = 0, rdd = 0;
+    for (int i = 0; i < 4; ++i) {
+      const int xx = x0 - 1 + i;
+      if (xx < 0 || xx >= kP) continue;
+      const double v = t[static_cast<std::size_t>(yy * kP + xx)];
+      rv += wx[i] * v;
+      rd += dwx[i] * v;
+      rdd += ddwx[i] * v;
+    }
+    out.v += wy[j] * rv;
+    out.gx += wy[j] * rd;
+    out.gy += dwy[j] * rv;
+    out.hxx += wy[j] * rdd;
+    out.hxy += dwy[j] * rd;
+    out.hyy += ddwy[j] * rv;
+  }
+  return true;
+}
+
+/// Separable Gaussian blur, sigma 1 px, truncated at 4 px, zero outside the patch.
+void blurPatch(const HasteTracker::Patch& in, HasteTracker::Patch& out) {
+  constexpr int kP = HasteTracker::kPatchSize;
+  float k[9];
+  float sum = 0;
+  for (int i = -4; i <= 4; ++i) sum += k[i + 4] = std::exp(-0.5f * float(i * i));
+  for (float& v : k) v /= sum;
+  HasteTracker::Patch rows{};
+  for (int y = 0; y < kP; ++y)
+    for (int x = 0; x < kP; ++x) {
+      float v = 0;
+      for (int i = std::max(-4, -x); i <= std::min(4, kP - 1 - x); ++i) v += k[i + 4] * in[y * kP + x + i];
+      rows[y * kP + x] = v;
+    }
+  for (int y = 0; y < kP; ++y)
+    for (int x = 0; x < kP; ++x) {
+      float v = 0;
+      for (int i = std::max(-4, -y); i <= std::min(4, kP - 1 - y); ++i) v += k[i + 4] * rows[(y + i) * kP + x];
+      out[y * kP + x] = v;
+    }
+}
+}  // namespace
+
+bool HasteTracker::subpixelFit(float& dx, float& dy) const {
+  dx = dy = 0.f;
+  if (!initialized_ || count_ == 0) return false;
+  Patch blurred;
+  blurPatch(normalized_, blurred);
+  const double t_max = *std::max_element(blurred.begin(), blurred.end());
+  if (!(t_max > 0)) return false;
+  // Patch point of event e for an offset u of the feature from the state: p = R(theta) (e - s - u) + R.
+  const double c = hc_[0], sn = hs_[0];
+  // Mean template value over the window (f), and its gradient and Hessian in u.
+  auto evaluate = [&](double ux, double uy, bool derivatives, double& f, Eigen::Vector2d& g, Eigen::Matrix2d& h) {
+    f = 0;
+    double gx = 0, gy = 0, hxx = 0, hxy = 0, hyy = 0;
+    for (int i = 0; i < count_; ++i) {
+      const WindowEvent& e = window_[static_cast<std::size_t>(i)];
+      const double ex = e.x - state_.x - ux, ey = e.y - state_.y - uy;
+      CubicSample cs;
+      if (!cubicSample(blurred, c * ex + sn * ey + kRadius, -sn * ex + c * ey + kRadius, cs)) continue;
+      f += cs.v;
+      if (!derivatives) continue;
+      gx += cs.gx;
+      gy += cs.gy;
+      hxx += cs.hxx;
+      hxy += cs.hxy;
+      hyy += cs.hyy;
+    }
+    f /= count_;
+    if (!derivatives) return;
+    // dp/du = -R(theta): the gradient is -R^T grad T, the Hessian R^T H_T R.
+    Eigen::Matrix2d rot;
+    rot << c, sn, -sn, c;
+    g = -rot.transpose() * Eigen::Vector2d(gx, gy) / count_;
+    Eigen::Matrix2d ht;
+    ht << hxx, hxy, hxy, hyy;
+    h = rot.transpose() * ht * rot / count_;
+  };
+  double ux = 0, uy = 0, f;
+  Eigen::Vector2d g;
+  Eigen::Matrix2d h;
+  evaluate(ux, uy, true, f, g, h);
+  for (int iteration = 0; iteration < 6; ++iteration) {
+    // Newton step on the Hessian with its eigenvalues held below -0.01 t_max (a maximum is sought), at
+    // most 0.5 px long, halved until the mean rises (at most 5 times).
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(h);
+    const Eigen::Vector2d ev = es.eigenvalues().cwiseMin(-0.01 * t_max);
+    Eigen::Vector2d step = -(es.eigenvectors() * ev.cwiseInverse().asDiagonal() * es.eigenvectors().transpose()) * g;
+    if (!step.allFinite()) return false;
+    if (step.norm() > 0.5) step *= 0.5 / step.norm();
+    bool improved = false;
+    for (int halving = 0; halving < 5 && !improved; ++halving, step *= 0.5) {
+      double fq;
+      Eigen::Vector2d unused_g;
+      Eigen::Matrix2d unused_h;
+      evaluate(ux + step.x(), uy + step.y(), false, fq, unused_g, unused_h);
+      if (fq > f) {
+        ux += step.x();
+        uy += step.y();
+        f = fq;
+        improved = true;
+      }
+    }
+    if (!improved || step.norm() < 1e-3) break;  // (step was halved once more after the accepted one)
+    evaluate(ux, uy, true, f, g, h);
+  }
+  if (!(std::hypot(ux, uy) <= kMaxFitOffset)) return false;
+  dx = static_cast<float>(ux);
+  dy = static_cast<float>(uy);
+  return true;
 }
 
 // ---- HasteDifference* ----------------------------------------------------------------------------

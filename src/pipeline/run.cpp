@@ -409,6 +409,7 @@ std::string runStatsJson(const RunSummary& s, const RunOptions& options) {
       .add("measurements", f.measurements)
       .add("measurements_without_undistortion", f.measurements_without_undistortion)
       .add("events_without_position", f.events_without_position)
+      .add("subpixel_fit_failures", f.subpixel_fit_failures)
       .add("features_created", f.features_created)
       .add("max_active_features", f.max_active_features)
       .add("harris_threshold_end", f.harris_threshold)

@@ -195,6 +195,13 @@ TEST(Config, RelinearizeEveryIsAPositiveStepCount) {
             std::string::npos);
 }
 
+TEST(Config, TheSubpixelMethodIsOneOfTwoNames) {
+  EXPECT_EQ(yamlError("frontend:\n  subpixel_method: template_fit\n"), "accepted");
+  EXPECT_EQ(yamlError("frontend:\n  subpixel_method: parabola\n"), "accepted");
+  EXPECT_NE(yamlError("frontend:\n  subpixel_method: spline\n").find("frontend.subpixel_method = 'spline'"),
+            std::string::npos);
+}
+
 TEST(Config, AFeatureBudgetLargerThanTheSensorHoldsIsRejectedWithItsKeys) {
   Config config;  // 240x180, border 16 px, features 15 px apart: 208 x 148 px hold 158 hexagonally
   config.validateForSensor();

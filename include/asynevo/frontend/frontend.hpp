@@ -99,6 +99,7 @@ struct FrontendStats {
   /// events of a pixel without a rectified position (its undistortion did not converge): counted, not
   /// tracked or detected
   uint64_t events_without_position = 0;
+  uint64_t subpixel_fit_failures = 0;  ///< template_fit ended too far off: the parabola's offset used
   uint64_t features_created = 0;
   uint64_t neighbour_tests = 0;  ///< features evaluated by the neighbour-motion test (all checks)
   std::array<uint64_t, kDropReasonCount> features_dropped{};
@@ -297,6 +298,7 @@ class Frontend {
   int width_;           ///< the binned image the frontend works on
   int height_;
   TrackingFrame frame_;
+  bool fit_subpixel_;  ///< subpixel_method is template_fit
   std::unique_ptr<HotPixelFilter> hot_pixel_filter_;        ///< null when off
   std::unique_ptr<BackgroundActivityFilter> noise_filter_;  ///< null when off
   std::unique_ptr<EventRateBudget> rate_budget_;           ///< null when off

@@ -133,6 +133,13 @@ class HasteTracker {
   /// through the scores of the −1, 0, +1 px hypotheses, δ = (s₋ − s₊) / (2 (s₋ − 2 s₀ + s₊)), clamped
   /// to ±0.5 px; 0 where the scores are not concave (no maximum between the neighbours).
   void subpixelOffset(float& dx, float& dy) const;
+  /// Sub-pixel offset of the feature from the state by a continuous fit: the translation u that maximizes
+  /// the mean over the window events of the normalized template, blurred by a Gaussian (sigma 1 px) and
+  /// interpolated by Keys' cubic convolution (C1-smooth, unlike the bilinear scores, whose maxima lie on
+  /// the grid), found by Newton steps of at most 0.5 px from the state; false (dx = dy = 0) when the fit
+  /// ends more than kMaxFitOffset px away or the template has no mass.
+  bool subpixelFit(float& dx, float& dy) const;
+  static constexpr float kMaxFitOffset = 3.0f;
   /// In-range events since the last state change, and state changes since reset.
   uint32_t eventsSinceChange() const { return events_since_change_; }
   uint32_t stateChanges() const { return state_changes_; }

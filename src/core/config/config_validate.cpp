@@ -36,6 +36,9 @@ void FrontendConfig::validate() const {
   requireRange("frontend.hot_pixel_factor", hot_pixel_factor, 1.0, 1e6);
   requireRange("frontend.hot_pixel_min_rate_hz", hot_pixel_min_rate_hz, 0.0, 1e7);
   requireRange("frontend.refractory_period_ms", refractory_period_ms, 0.0, 1e6);
+  if (subpixel_method != "parabola" && subpixel_method != "template_fit")
+    throw ConfigError(fmt::format("configuration value frontend.subpixel_method = '{}' is not one of parabola, template_fit",
+                                  subpixel_method));
   if (detector != "fa_harris" && detector != "arc_star")
     throw ConfigError(fmt::format("configuration value frontend.detector = '{}' is not one of fa_harris, arc_star",
                                   detector));

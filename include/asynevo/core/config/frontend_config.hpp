@@ -90,6 +90,10 @@ struct FrontendConfig {
   /// The trackers work on the rectified (undistorted pinhole) image instead of the raw pixels
   /// (frontend/tracking_frame.hpp); needs the camera model (Frontend(config, camera)).
   bool rectified_tracking = false;
+  /// How a measurement's sub-pixel offset is found (docs/method/frontend.md, "Sub-pixel measurements"):
+  /// "parabola" (the vertex through the +-1 px hypothesis scores) or "template_fit" (a continuous fit of
+  /// the window to the blurred template).
+  std::string subpixel_method = "parabola";
 
   template <class V>
   void visit(V& v) {
@@ -184,6 +188,10 @@ struct FrontendConfig {
     v("subpixel_measurements", subpixel_measurements,
       "measurements refined to the vertex of a parabola through the scores of the +-1 px hypotheses "
       "(false: the tracker's 1-px state)");
+    v("subpixel_method", subpixel_method,
+      "with subpixel_measurements: parabola (the vertex of the parabola through the +-1 px hypothesis scores) or "
+      "template_fit (the translation that best fits the window to the template blurred by 1 px, found by "
+      "Newton steps on its cubic interpolation)");
     v("rectified_tracking", rectified_tracking,
       "the trackers work on the undistorted pinhole image of the camera's intrinsics, where a patch keeps "
       "its shape across the image (false: on the raw pixels, where the lens distortion warps it)");
