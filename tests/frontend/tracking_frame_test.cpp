@@ -63,8 +63,9 @@ void expectRoundTrip(const CameraModel& camera, int bin_shift) {
       const float margin = 16.f;
       const bool inside_raw = x >= margin && y >= margin && x <= w - 1 - margin && y <= h - 1 - margin;
       if (std::abs(x - margin) > 0.01f && std::abs(y - margin) > 0.01f && std::abs(x - (w - 1 - margin)) > 0.01f &&
-          std::abs(y - (h - 1 - margin)) > 0.01f)
+          std::abs(y - (h - 1 - margin)) > 0.01f) {
         EXPECT_EQ(frame.inside(fx, fy, margin), inside_raw) << x << " " << y;
+      }
     }
   }
   EXPECT_EQ(outside_grid, 0);
