@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "asynevo/core/config/config.hpp"
+#include "asynevo/core/error.hpp"
 #include "asynevo/frontend/corner_detector.hpp"
 #include "asynevo/frontend/frontend.hpp"
 #include "asynevo/frontend/rotation_check.hpp"
@@ -271,7 +272,8 @@ int main(int argc, char** argv) try {
     }
     const DatasetFiles files = resolveDataset(dir);  // events.aevt, events.txt, ...
     const std::vector<Event> events = readAllEvents(files.events);
-    const CameraModel camera = readEcdCalibration(dir + "/calib.txt");
+    if (!files.calibration) throw InputError(dir, "no calib.txt or camchain.yaml (the camera model)");
+    const CameraModel camera = readCalibration(*files.calibration);  // calib.txt: 240x180
     const bench::FrontendRun run = bench::runFrontend(config.frontend, events, camera);
     const frontend::MeasurementCollector& out = run.out;
     fmt::print("== {}\n{}", dir, run.stats.summary());
