@@ -22,10 +22,8 @@ struct FrontendRun {
   frontend::FrontendStats stats;
 };
 
-/// Feeds every event to a fresh frontend, then finishes it.
-inline FrontendRun runFrontend(const FrontendConfig& config, const std::vector<Event>& events, int width,
-                               int height, UndistortionTable<float> undistortion = {}) {
-  frontend::Frontend fe(config, width, height, std::move(undistortion));
+/// Feeds every event to `fe`, then finishes it.
+inline FrontendRun feedAll(frontend::Frontend& fe, const std::vector<Event>& events) {
   FrontendRun run;
   for (const Event& e : events) fe.process(e, run.out);
   fe.finish(run.out);
@@ -33,15 +31,18 @@ inline FrontendRun runFrontend(const FrontendConfig& config, const std::vector<E
   return run;
 }
 
+/// Feeds every event to a fresh frontend, then finishes it.
+inline FrontendRun runFrontend(const FrontendConfig& config, const std::vector<Event>& events, int width,
+                               int height, UndistortionTable<float> undistortion = {}) {
+  frontend::Frontend fe(config, width, height, std::move(undistortion));
+  return feedAll(fe, events);
+}
+
 /// Feeds every event to a fresh frontend for `camera`'s sensor (rectified tracking as configured).
 inline FrontendRun runFrontend(const FrontendConfig& config, const std::vector<Event>& events,
                                const CameraModel& camera) {
   frontend::Frontend fe(config, camera);
-  FrontendRun run;
-  for (const Event& e : events) fe.process(e, run.out);
-  fe.finish(run.out);
-  run.stats = fe.stats();
-  return run;
+  return feedAll(fe, events);
 }
 
 /// Exact tracking error on syntheticStream(..., speed_px_s, ...): per track, at each measurement,

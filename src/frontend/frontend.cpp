@@ -413,8 +413,8 @@ void Frontend::onStateChange(int slot, int64_t t_ns, MeasurementSink& sink) {
 
   // Registration table: collisions with another feature within the collision radius.
   const int grid_w = frame_.gridWidth(), grid_h = frame_.gridHeight();
-  const int rx = std::clamp(static_cast<int>(std::lround(st.x - frame_.originX())), 0, grid_w - 1);
-  const int ry = std::clamp(static_cast<int>(std::lround(st.y - frame_.originY())), 0, grid_h - 1);
+  int rx, ry;
+  frame_.gridCell(st.x, st.y, rx, ry);
   const int reg = ry * grid_w + rx;
   if (reg != s.reg_index) {
     if (s.reg_index >= 0 && registration_[s.reg_index] == s.id) registration_[s.reg_index] = -1;
@@ -472,14 +472,12 @@ void Frontend::onStateChange(int slot, int64_t t_ns, MeasurementSink& sink) {
 }
 
 void Frontend::trySeed(const Event& e, float x, float y) {
-  const float px = e.x, py = e.y;  // the border is the sensor's, in its pixels
-  if (!(px >= border_margin_ && py >= border_margin_ && px <= float(width_ - 1) - border_margin_ &&
-        py <= float(height_ - 1) - border_margin_))
-    return;
+  // The border is the sensor's, at the event's pixel.
+  if (!TrackingFrame::withinMargin(float(e.x), float(e.y), width_, height_, border_margin_)) return;
   // Patch search: no registered feature within min_distance (on the tracking frame's grid).
   const int grid_w = frame_.gridWidth(), grid_h = frame_.gridHeight();
-  const int gx = static_cast<int>(std::lround(x - frame_.originX()));
-  const int gy = static_cast<int>(std::lround(y - frame_.originY()));
+  int gx, gy;
+  frame_.gridCell(x, y, gx, gy);
   const double d = min_distance_px_;
   const int r = static_cast<int>(std::floor(d));
   for (int yy = std::max(gy - r, 0); yy <= std::min(gy + r, grid_h - 1); ++yy) {

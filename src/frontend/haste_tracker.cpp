@@ -495,37 +495,37 @@ bool HasteTracker::subpixelFit(float& dx, float& dy) const {
   if (!(t_max > 0)) return false;
   // Patch point of event e for an offset u of the feature from the state: p = R(theta) (e - s - u) + R.
   const double c = hc_[0], sn = hs_[0];
-  // Mean template value over the window (f), and its gradient and Hessian in u.
-  auto evaluate = [&](double ux, double uy, bool derivatives, double& f, Eigen::Vector2d& g, Eigen::Matrix2d& h) {
-    f = 0;
-    double gx = 0, gy = 0, hxx = 0, hxy = 0, hyy = 0;
+  // Mean template value over the window at offset u; with g and h also its gradient and Hessian in u.
+  auto evaluate = [&](double ux, double uy, Eigen::Vector2d* g, Eigen::Matrix2d* h) {
+    double f = 0, gx = 0, gy = 0, hxx = 0, hxy = 0, hyy = 0;
     for (int i = 0; i < count_; ++i) {
       const WindowEvent& e = window_[static_cast<std::size_t>(i)];
       const double ex = e.x - state_.x - ux, ey = e.y - state_.y - uy;
       CubicSample cs;
       if (!cubicSample(blurred, c * ex + sn * ey + kRadius, -sn * ex + c * ey + kRadius, cs)) continue;
       f += cs.v;
-      if (!derivatives) continue;
+      if (g == nullptr) continue;
       gx += cs.gx;
       gy += cs.gy;
       hxx += cs.hxx;
       hxy += cs.hxy;
       hyy += cs.hyy;
     }
-    f /= count_;
-    if (!derivatives) return;
-    // dp/du = -R(theta): the gradient is -R^T grad T, the Hessian R^T H_T R.
-    Eigen::Matrix2d rot;
-    rot << c, sn, -sn, c;
-    g = -rot.transpose() * Eigen::Vector2d(gx, gy) / count_;
-    Eigen::Matrix2d ht;
-    ht << hxx, hxy, hxy, hyy;
-    h = rot.transpose() * ht * rot / count_;
+    if (g != nullptr) {
+      // dp/du = -R(theta): the gradient is -R^T grad T, the Hessian R^T H_T R.
+      Eigen::Matrix2d rot;
+      rot << c, sn, -sn, c;
+      *g = -rot.transpose() * Eigen::Vector2d(gx, gy) / count_;
+      Eigen::Matrix2d ht;
+      ht << hxx, hxy, hxy, hyy;
+      *h = rot.transpose() * ht * rot / count_;
+    }
+    return f / count_;
   };
-  double ux = 0, uy = 0, f;
+  double ux = 0, uy = 0;
   Eigen::Vector2d g;
   Eigen::Matrix2d h;
-  evaluate(ux, uy, true, f, g, h);
+  double f = evaluate(ux, uy, &g, &h);
   for (int iteration = 0; iteration < 6; ++iteration) {
     // Newton step on the Hessian with its eigenvalues held below -0.01 t_max (a maximum is sought), at
     // most 0.5 px long, halved until the mean rises (at most 5 times).
@@ -536,10 +536,7 @@ bool HasteTracker::subpixelFit(float& dx, float& dy) const {
     if (step.norm() > 0.5) step *= 0.5 / step.norm();
     bool improved = false;
     for (int halving = 0; halving < 5 && !improved; ++halving, step *= 0.5) {
-      double fq;
-      Eigen::Vector2d unused_g;
-      Eigen::Matrix2d unused_h;
-      evaluate(ux + step.x(), uy + step.y(), false, fq, unused_g, unused_h);
+      const double fq = evaluate(ux + step.x(), uy + step.y(), nullptr, nullptr);
       if (fq > f) {
         ux += step.x();
         uy += step.y();
@@ -548,7 +545,7 @@ bool HasteTracker::subpixelFit(float& dx, float& dy) const {
       }
     }
     if (!improved || step.norm() < 1e-3) break;  // (step was halved once more after the accepted one)
-    evaluate(ux, uy, true, f, g, h);
+    f = evaluate(ux, uy, &g, &h);
   }
   if (!(std::hypot(ux, uy) <= kMaxFitOffset)) return false;
   dx = static_cast<float>(ux);

@@ -60,25 +60,17 @@ TrackingFrame::TrackingFrame(const CameraModel& camera, int bin_shift)
   grid_height_ = static_cast<int>(std::ceil(max_y - origin_y_)) + 2;
 }
 
-void TrackingFrame::toBinned(float x, float y, double& bx, double& by) const {
-  const Eigen::Vector2d xn((x - c_x_) / f_x_, (y - c_y_) / f_y_);
-  const Eigen::Vector2d u = camera_->normalizedToPixel(xn);
-  const double b = static_cast<double>(1 << bin_shift_);
-  bx = (u.x() + 0.5) / b - 0.5;
-  by = (u.y() + 0.5) / b - 0.5;
-}
-
 bool TrackingFrame::inside(float x, float y, float margin) const {
-  if (!rectified_)
-    return x >= margin && y >= margin && x <= float(width_ - 1) - margin && y <= float(height_ - 1) - margin;
-  double bx, by;
-  toBinned(x, y, bx, by);
-  return bx >= margin && by >= margin && bx <= double(width_ - 1) - margin && by <= double(height_ - 1) - margin;
+  if (!rectified_) return withinMargin(x, y, width_, height_, margin);
+  // Back through the distortion to the sensor pixel, then to binned pixels.
+  const Eigen::Vector2d u = camera_->normalizedToPixel(normalized(x, y));
+  const double b = static_cast<double>(1 << bin_shift_);
+  return withinMargin((u.x() + 0.5) / b - 0.5, (u.y() + 0.5) / b - 0.5, width_, height_, double(margin));
 }
 
 bool TrackingFrame::measurement(float x, float y, float& sensor_x, float& sensor_y, float& xn, float& yn) const {
   if (rectified_) {
-    const Eigen::Vector2d n((x - c_x_) / f_x_, (y - c_y_) / f_y_);
+    const Eigen::Vector2d n = normalized(x, y);
     const Eigen::Vector2d u = camera_->normalizedToPixel(n);
     sensor_x = static_cast<float>(u.x());
     sensor_y = static_cast<float>(u.y());

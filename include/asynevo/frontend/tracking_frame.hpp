@@ -10,6 +10,8 @@
 // there wherever it is in the image. Events keep their pixel's position (a table); the frame extends
 // beyond the sensor's rectangle where the distortion is barrel-shaped.
 
+#include <algorithm>
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -52,6 +54,17 @@ class TrackingFrame {
   /// Whether a frame position lies inside the binned image, at least `margin` binned pixels from its
   /// border.
   bool inside(float x, float y, float margin) const;
+  /// Whether (x, y) lies in a width x height image of pixel centres 0 .. size - 1, at least `margin` from
+  /// its border.
+  template <typename T>
+  static bool withinMargin(T x, T y, int width, int height, T margin) {
+    return x >= margin && y >= margin && x <= T(width - 1) - margin && y <= T(height - 1) - margin;
+  }
+  /// The cell of the registration grid holding a frame position (rounded, clamped to the grid).
+  void gridCell(float x, float y, int& gx, int& gy) const {
+    gx = std::clamp(static_cast<int>(std::lround(x - origin_x_)), 0, grid_width_ - 1);
+    gy = std::clamp(static_cast<int>(std::lround(y - origin_y_)), 0, grid_height_ - 1);
+  }
 
   /// The measurement of a frame position: its position in sensor pixels and its normalized undistorted
   /// coordinates; false when they are not available.
@@ -61,8 +74,8 @@ class TrackingFrame {
   int pixelsWithoutPosition() const { return without_position_; }
 
  private:
-  /// Binned pixel coordinates of a frame position (the inverse of position(), through the distortion).
-  void toBinned(float x, float y, double& bx, double& by) const;
+  /// Normalized coordinates of a rectified frame position: K_b^-1 (x, y, 1).
+  Eigen::Vector2d normalized(float x, float y) const { return {(x - c_x_) / f_x_, (y - c_y_) / f_y_}; }
 
   int width_;   ///< binned image
   int height_;
