@@ -744,6 +744,7 @@ std::pair<int, double> SlidingWindowEstimator::solve(int max_iterations) {
   solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   solver_options.max_num_iterations = max_iterations;
   solver_options.function_tolerance = options_.config.function_tolerance;
+  solver_options.initial_trust_region_radius = options_.config.initial_trust_region_radius;
   solver_options.num_threads = options_.config.solver_threads;
   solver_options.logging_type = ceres::SILENT;
   if (options_.real_time) solver_options.max_solver_time_in_seconds = options_.config.max_solver_time_s;
@@ -774,6 +775,7 @@ std::pair<int, double> SlidingWindowEstimator::solveBuiltin(const std::vector<Fa
   WindowSolverOptions solver_options;
   solver_options.max_iterations = max_iterations;
   solver_options.function_tolerance = options_.config.function_tolerance;
+  solver_options.initial_radius = options_.config.initial_trust_region_radius;
   solver_options.relinearize_every = options_.config.relinearize_every;
   solver_options.threads = options_.config.solver_threads;
   if (options_.real_time) solver_options.max_time_s = options_.config.max_solver_time_s;

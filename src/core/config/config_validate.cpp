@@ -114,6 +114,7 @@ void BackendConfig::validate() const {
         forced_marginalization));
   requireRange("backend.max_iterations", max_iterations, 1, 1000);
   requireRange("backend.function_tolerance", function_tolerance, 0.0, 1.0);
+  requireRange("backend.initial_trust_region_radius", initial_trust_region_radius, 1e-3, 1e16);
   requireRange("backend.relinearize_every", relinearize_every, 1, 100);
   requireRange("backend.track_measurement_dt_ms", track_measurement_dt_ms, 0.0, 1e4);
   requireRange("backend.max_solver_time_s", max_solver_time_s, 1e-4, 1e4);

@@ -78,6 +78,10 @@ struct BackendConfig {
   int max_iterations = 5;
   /// The solve ends when a step changes the cost by at most this fraction of it (Ceres's function tolerance).
   double function_tolerance = 1e-6;
+  /// The trust-region radius a window solve starts from (Ceres's initial_trust_region_radius, and its
+  /// default): the Levenberg–Marquardt damping of the first step is 1 / this times the clamped diagonal.
+  /// Wider radii converge faster from a warm start but end more segments on the evaluation matrix.
+  double initial_trust_region_radius = 1e4;
   /// builtin solver: the Jacobians and normal equations are evaluated at every k-th step taken; the
   /// steps between reuse them with the gradient at the new values (1 = every step).
   int relinearize_every = 1;
@@ -227,6 +231,8 @@ struct BackendConfig {
     v("max_iterations", max_iterations, "Levenberg-Marquardt iterations per window solve");
     v("function_tolerance", function_tolerance,
       "a window solve ends when a step changes the cost by at most this fraction of it");
+    v("initial_trust_region_radius", initial_trust_region_radius,
+      "trust-region radius a window solve starts from: the first step's damping is 1/this times diag(H)");
     v("relinearize_every", relinearize_every,
       "builtin solver: Jacobians at every k-th step taken, the steps between reuse them (1 = every step)");
     v("max_solver_time_s", max_solver_time_s, "wall-time cap per window solve [s]");
