@@ -37,6 +37,13 @@ RunResult runBuiltin(double duration, const std::function<void(BackendConfig&)>&
   return runEstimator(scene.measurements(duration, 0.01, 0.4, 0.3), duration, options);
 }
 
+/// The window solves' evaluations summed over the run's updates.
+int totalIterations(const RunResult& run) {
+  int sum = 0;
+  for (const UpdateRecord& r : run.records) sum += r.iterations;
+  return sum;
+}
+
 /// The same final knots, bit for bit.
 void expectSameKnots(const RunResult& a, const RunResult& b) {
   ASSERT_EQ(a.knots.size(), b.knots.size());
@@ -111,9 +118,7 @@ TEST(SlidingWindowEstimator, ALooserFunctionToleranceEndsTheWindowSolvesSooner) 
   const RunResult b = runBuiltin(2.0, [](BackendConfig& c) { c.function_tolerance = 1e-2; });
   ASSERT_TRUE(b.stats.initialized) << b.stats.init_last_failure;
   auto meanIterations = [](const RunResult& run) {
-    double sum = 0.0;
-    for (const UpdateRecord& r : run.records) sum += r.iterations;
-    return sum / std::max<std::size_t>(run.records.size(), 1);
+    return static_cast<double>(totalIterations(run)) / std::max<std::size_t>(run.records.size(), 1);
   };
   ASSERT_GT(a.records.size(), 20u);
   EXPECT_LT(meanIterations(b), 0.9 * meanIterations(a))
@@ -131,11 +136,6 @@ TEST(SlidingWindowEstimator, AWiderInitialTrustRegionReachesTheWindowSolver) {
   const RunResult a = runBuiltin(2.0);
   const RunResult b = runBuiltin(2.0, [](BackendConfig& c) { c.initial_trust_region_radius = 1e6; });
   ASSERT_TRUE(b.stats.initialized) << b.stats.init_last_failure;
-  auto totalIterations = [](const RunResult& run) {
-    int sum = 0;
-    for (const UpdateRecord& r : run.records) sum += r.iterations;
-    return sum;
-  };
   ASSERT_GT(a.records.size(), 20u);
   EXPECT_LT(totalIterations(b), totalIterations(a));
   const Accuracy acc = accuracy(b.knots);

@@ -103,10 +103,14 @@ class WindowSolverTest : public ::testing::Test {
     config.landmarks = 60;
     config.measurements_per_landmark = 12;
     scenario_ = testing::makeGpBaScenario(config);
-    start_ = testing::perturbedState(scenario_, 5);
+    start_ = withTrueEnds(testing::perturbedState(scenario_, 5));
+  }
+  /// x with its first and last pose set to the truth's (gauge and scale: held constant by constantOf).
+  GpBaState withTrueEnds(GpBaState x) const {
     const GpBaState truth = testing::stateFromTruth(scenario_);
-    start_.poses.front() = truth.poses.front();  // gauge and scale: first and last pose held
-    start_.poses.back() = truth.poses.back();
+    x.poses.front() = truth.poses.front();
+    x.poses.back() = truth.poses.back();
+    return x;
   }
   std::set<const double*> constantOf(const GpBaState& x) const {
     return {x.poses.front().data(), x.poses.back().data()};
@@ -185,10 +189,7 @@ TEST_F(WindowSolverTest, AWarmStartGetsCloserToTheMinimumWithLessInitialDamping)
   // backend.initial_trust_region_radius) takes nearly Gauss-Newton steps and gets closer in as many.
   const BothSolved reference = solveBoth(60);
   const double minimum = reference.own.final_cost;
-  GpBaState near = testing::perturbedState(scenario_, 7, 0.002, 0.002, 0.005, 0.005);
-  const GpBaState truth = testing::stateFromTruth(scenario_);
-  near.poses.front() = truth.poses.front();
-  near.poses.back() = truth.poses.back();
+  const GpBaState near = withTrueEnds(testing::perturbedState(scenario_, 7, 0.002, 0.002, 0.005, 0.005));
   auto gapAfter = [&](double radius, int iterations) {
     GpBaState x = near;
     const Window w = makeWindow(scenario_, x, 2.0);
