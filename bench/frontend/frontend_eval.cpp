@@ -4,12 +4,13 @@
 // (--sim: simulated in memory; a folder written by 'asynevo simulate') it reports the error of every
 // track against the exact feature ground truth (sim/feature_ground_truth.hpp).
 //
-//   frontend_eval [--yaml 'frontend: {min_dt_ms: 1}'] [--accel] [--tracks FILE] DIR...
+//   frontend_eval [--yaml 'frontend: {min_dt_ms: 1}'] [--accel] [--tracks FILE] [--ends FILE] DIR...
 //   frontend_eval [--yaml ...] [--worst N] --sim SCENE:MOTION:SECONDS[:SEED] ...   e.g. --sim shapes:6dof:2
 //   frontend_eval --synthetic
 // DIR is any dataset folder (events.aevt, events.txt, ...; docs/reference/formats.md).
 // --time-offset-ms MS: simulated data: each measurement compared with the truth MS later (the tracker's
 // effective delay is the offset with the smallest error; docs/results/track_errors.md).
+// --ends FILE: DIR: every feature's end, `id t reason measurements` per line (reasons as in stats.json).
 // --corners FILE: DIR: every corner event of the detector run over all events, `t x y score` per line.
 #include <fmt/format.h>
 
@@ -228,6 +229,7 @@ int main(int argc, char** argv) try {
   Config config;
   bool accel = false;
   std::string tracks_path;
+  std::string ends_path;
   int worst = 0;
   std::string corners_path;
   sim::FeatureAccuracyOptions accuracy;
@@ -250,10 +252,12 @@ int main(int argc, char** argv) try {
       accuracy.time_offset_ns = std::llround(std::stod(argv[++i]) * 1e6);
     } else if (a == "--tracks" && i + 1 < argc) {
       tracks_path = argv[++i];
+    } else if (a == "--ends" && i + 1 < argc) {
+      ends_path = argv[++i];
     } else if (a == "-h" || a.rfind("--", 0) == 0) {  // --help, or a flag unknown or without its value
       const bool help = a == "--help" || a == "-h";
       fmt::print(help ? stdout : stderr,
-                 "usage: frontend_eval [--yaml YAML] [--accel] [--tracks FILE] [--worst N] [--time-offset-ms MS] "
+                 "usage: frontend_eval [--yaml YAML] [--accel] [--tracks FILE] [--ends FILE] [--worst N] [--time-offset-ms MS] "
                  "[--corners FILE] "
                  "(DIR | --sim SCENE:MOTION:SECONDS[:SEED] | --synthetic)...\n");
       return help ? 0 : 2;
@@ -282,6 +286,12 @@ int main(int argc, char** argv) try {
       std::ofstream f(tracks_path);
       for (const auto& m : out.measurements)
         f << fmt::format("{} {:.9f} {:.3f} {:.3f}\n", m.feature_id, m.t_ns * 1e-9, m.x, m.y);
+    }
+    if (!ends_path.empty()) {
+      std::ofstream f(ends_path);
+      for (const frontend::FeatureEnd& e : out.ends)
+        f << fmt::format("{} {:.9f} {} {}\n", e.feature_id, e.t_ns * 1e-9, frontend::dropReasonName(e.reason),
+                         e.measurements);
     }
     if (sim::isSimulatedDataset(dir)) {
       printAccuracy(out.measurements, sim::loadSimulatedGroundTruth(dir), worst, accuracy);

@@ -218,6 +218,9 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
       height_(binnedExtent(height, bin_shift_)),
       frame_(frame ? std::move(*frame) : TrackingFrame(width_, height_, bin_shift_, std::move(undistortion))),
       fit_subpixel_(config.subpixel_method == "template_fit"),
+      neighbour_model_(config.neighbour_motion_model == "similarity" ? NeighbourModel::kSimilarity
+                       : config.neighbour_motion_model == "either"   ? NeighbourModel::kEither
+                                                                     : NeighbourModel::kTranslation),
       sae_(width_, height_, msToNs(config.refractory_period_ms)),
       detector_(sae_, detectorParams(config)),
       registration_(static_cast<std::size_t>(frame_.gridWidth()) * frame_.gridHeight(), -1),
@@ -266,6 +269,12 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
     neighbour_d2_.reserve(slots_.size());
     neighbour_dx_.reserve(slots_.size());
     neighbour_dy_.reserve(slots_.size());
+    neighbour_ax_.reserve(slots_.size());
+    median_x_.reserve(slots_.size());
+    median_y_.reserve(slots_.size());
+    neighbour_ay_.reserve(slots_.size());
+    pair_angle_.reserve(slots_.size() * slots_.size() / 2);
+    pair_log_scale_.reserve(slots_.size() * slots_.size() / 2);
     neighbour_drops_.reserve(slots_.size());
   }
 }
@@ -645,6 +654,36 @@ bool Frontend::positionAt(const Slot& s, int64_t t_ns, float& x, float& y) const
   return true;
 }
 
+void Frontend::carryToFeature(float xa, float ya, float (*median)(std::vector<float>&)) {
+  // Under an image similarity p -> z p + t (complex z = scale x e^{i angle}) the displacement is
+  // d(p) = (z - 1) p + t, so a neighbour n predicts the feature's displacement as
+  // d_n + (z - 1)(p_f - p_n), whatever the centre of the rotation. z is the median angle and median log
+  // scale of the neighbour pairs (each pair's vector at t_a against the same at t_b), robust to a
+  // minority of bad neighbours as the median displacement is. A roll or a zoom, which moves neighbours
+  // apart in proportion to their distance, then no longer parts them.
+  constexpr float kMinPairPx = 4.f;  // a shorter pair's angle is too noisy
+  const std::size_t m = neighbour_dx_.size();
+  pair_angle_.clear();
+  pair_log_scale_.clear();
+  for (std::size_t a = 0; a < m; ++a)
+    for (std::size_t b = a + 1; b < m; ++b) {
+      const float ux = neighbour_ax_[b] - neighbour_ax_[a], uy = neighbour_ay_[b] - neighbour_ay_[a];
+      const float vx = ux + neighbour_dx_[b] - neighbour_dx_[a], vy = uy + neighbour_dy_[b] - neighbour_dy_[a];
+      const float u2 = ux * ux + uy * uy, v2 = vx * vx + vy * vy;
+      if (u2 < kMinPairPx * kMinPairPx || v2 < kMinPairPx * kMinPairPx) continue;
+      pair_angle_.push_back(std::atan2(ux * vy - uy * vx, ux * vx + uy * vy));
+      pair_log_scale_.push_back(0.5f * std::log(v2 / u2));
+    }
+  if (pair_angle_.size() < 3) return;  // the translation model
+  const float angle = median(pair_angle_), scale = std::exp(median(pair_log_scale_));
+  const float zr = scale * std::cos(angle) - 1.f, zi = scale * std::sin(angle);  // z - 1
+  for (std::size_t n = 0; n < m; ++n) {
+    const float wx = xa - neighbour_ax_[n], wy = ya - neighbour_ay_[n];
+    neighbour_dx_[n] += zr * wx - zi * wy;
+    neighbour_dy_[n] += zi * wx + zr * wy;
+  }
+}
+
 void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
   // Neighbour-motion consistency (docs/method/frontend_quality.md). Nearby points of a scene move
   // alike in the image (the motion field is smooth away from depth discontinuities), while a tracker
@@ -670,7 +709,7 @@ void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
   const float radius2 = static_cast<float>(neighbour_radius_px_ * neighbour_radius_px_);
   const float limit = static_cast<float>(config_.max_neighbour_disagreement_px);
   const float fraction = static_cast<float>(config_.neighbour_disagreement_fraction);
-  auto median = [](std::vector<float>& v) {
+  auto median = +[](std::vector<float>& v) {
     const std::size_t m = v.size() / 2;
     std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m), v.end());
     const float upper = v[m];
@@ -697,20 +736,36 @@ void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
     float xa, ya, xb, yb;
     neighbour_dx_.clear();
     neighbour_dy_.clear();
+    neighbour_ax_.clear();
+    neighbour_ay_.clear();
     for (std::size_t m = 0; m < k; ++m) {
       const Slot& o = slots_[static_cast<std::size_t>(
           candidates_[static_cast<std::size_t>(neighbour_d2_[m].second)].slot)];
       if (!positionAt(o, ta, xa, ya) || !positionAt(o, tb, xb, yb)) continue;
       neighbour_dx_.push_back(xb - xa);
       neighbour_dy_.push_back(yb - ya);
+      neighbour_ax_.push_back(xa);
+      neighbour_ay_.push_back(ya);
     }
     const Slot& s = slots_[static_cast<std::size_t>(c.slot)];
     if (neighbour_dx_.size() < 3 || !positionAt(s, ta, xa, ya) || !positionAt(s, tb, xb, yb)) continue;
     ++stats_.neighbour_tests;
-    const float mx = median(neighbour_dx_), my = median(neighbour_dy_);
-    const float ex = (xb - xa) - mx, ey = (yb - ya) - my;
-    const float bound = limit + fraction * std::sqrt(mx * mx + my * my);
-    if (ex * ex + ey * ey > bound * bound) neighbour_drops_.push_back(c.slot);
+    // The medians reorder their inputs: each reference is taken from copies of the displacements.
+    auto disagrees = [&]() {
+      median_x_.assign(neighbour_dx_.begin(), neighbour_dx_.end());
+      median_y_.assign(neighbour_dy_.begin(), neighbour_dy_.end());
+      const float mx = median(median_x_), my = median(median_y_);
+      const float ex = (xb - xa) - mx, ey = (yb - ya) - my;
+      const float bound = limit + fraction * std::sqrt(mx * mx + my * my);
+      return ex * ex + ey * ey > bound * bound;
+    };
+    bool drop_it = true;
+    if (neighbour_model_ != NeighbourModel::kSimilarity) drop_it = disagrees();
+    if (drop_it && neighbour_model_ != NeighbourModel::kTranslation) {
+      carryToFeature(xa, ya, median);
+      drop_it = disagrees();
+    }
+    if (drop_it) neighbour_drops_.push_back(c.slot);
   }
   for (int slot : neighbour_drops_) drop(slot, DropReason::kNeighbour, t_ns, sink);
 }

@@ -196,6 +196,11 @@ TEST(Config, RelinearizeEveryIsAPositiveStepCount) {
 }
 
 TEST(Config, TheSubpixelMethodIsOneOfTwoNames) {
+  EXPECT_EQ(yamlError("frontend:\n  neighbour_motion_model: similarity\n"), "accepted");
+  EXPECT_EQ(yamlError("frontend:\n  neighbour_motion_model: either\n"), "accepted");
+  EXPECT_NE(yamlError("frontend:\n  neighbour_motion_model: affine\n")
+                .find("frontend.neighbour_motion_model = 'affine' is not one of translation, similarity, either"),
+            std::string::npos);
   EXPECT_EQ(yamlError("frontend:\n  subpixel_method: template_fit\n"), "accepted");
   EXPECT_EQ(yamlError("frontend:\n  subpixel_method: parabola\n"), "accepted");
   EXPECT_NE(yamlError("frontend:\n  subpixel_method: spline\n").find("frontend.subpixel_method = 'spline'"),

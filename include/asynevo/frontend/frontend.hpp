@@ -281,6 +281,9 @@ class Frontend {
   /// its history does not reach back to t.
   bool positionAt(const Slot& s, int64_t t_ns, float& x, float& y) const;
   void neighbourCheck(int64_t t_ns, MeasurementSink& sink);
+  /// Similarity model of the neighbour-motion test: carries each neighbour's displacement (neighbour_dx_,
+  /// _dy_, positions at t_a in neighbour_ax_, _ay_) to the feature at (xa, ya).
+  void carryToFeature(float xa, float ya, float (*median)(std::vector<float>&));
   /// A new feature at the corner event `e`, whose tracking-frame position is (x, y).
   void trySeed(const Event& e, float x, float y);
   void drop(int slot, DropReason reason, int64_t t_ns, MeasurementSink& sink);
@@ -299,6 +302,8 @@ class Frontend {
   int height_;
   TrackingFrame frame_;
   bool fit_subpixel_;  ///< subpixel_method is template_fit
+  /// neighbour_motion_model: the reference of the neighbour-motion test
+  enum class NeighbourModel { kTranslation, kSimilarity, kEither } neighbour_model_;
   std::unique_ptr<HotPixelFilter> hot_pixel_filter_;        ///< null when off
   std::unique_ptr<BackgroundActivityFilter> noise_filter_;  ///< null when off
   std::unique_ptr<EventRateBudget> rate_budget_;           ///< null when off
@@ -319,6 +324,9 @@ class Frontend {
   std::vector<Candidate> candidates_;
   std::vector<std::pair<float, int>> neighbour_d2_;
   std::vector<float> neighbour_dx_, neighbour_dy_;
+  std::vector<float> neighbour_ax_, neighbour_ay_;  ///< the neighbours' positions at t_a
+  std::vector<float> median_x_, median_y_;           ///< copies the medians reorder
+  std::vector<float> pair_angle_, pair_log_scale_;  ///< similarity model: per neighbour pair
   std::vector<int> neighbour_drops_;
   int64_t next_neighbour_check_ns_ = 0;
   int64_t next_id_ = 0;

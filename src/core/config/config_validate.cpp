@@ -36,6 +36,11 @@ void FrontendConfig::validate() const {
   requireRange("frontend.hot_pixel_factor", hot_pixel_factor, 1.0, 1e6);
   requireRange("frontend.hot_pixel_min_rate_hz", hot_pixel_min_rate_hz, 0.0, 1e7);
   requireRange("frontend.refractory_period_ms", refractory_period_ms, 0.0, 1e6);
+  if (neighbour_motion_model != "translation" && neighbour_motion_model != "similarity" &&
+      neighbour_motion_model != "either")
+    throw ConfigError(fmt::format(
+        "configuration value frontend.neighbour_motion_model = '{}' is not one of translation, similarity, either",
+        neighbour_motion_model));
   if (subpixel_method != "parabola" && subpixel_method != "template_fit")
     throw ConfigError(fmt::format("configuration value frontend.subpixel_method = '{}' is not one of parabola, template_fit",
                                   subpixel_method));

@@ -79,6 +79,11 @@ struct FrontendConfig {
   double max_neighbour_disagreement_px = 4.0;
   /// ... plus this fraction of the length of the neighbours' median displacement (0 = a fixed bound).
   double neighbour_disagreement_fraction = 0.0;
+  /// "translation": the reference is the neighbours' median displacement; "similarity": each neighbour's
+  /// displacement is first carried to the feature's position through the rotation and scale change the
+  /// neighbours share (a roll or a zoom moves points apart in proportion to their distance); "either":
+  /// dropped only when both references disagree.
+  std::string neighbour_motion_model = "translation";
   double neighbour_check_ms = 5.0;  ///< event-time period of the neighbour-motion test (all features at once)
   double neighbour_window_ms = 60.0;  ///< time span of the compared displacements (<= 100)
   int neighbour_count = 6;            ///< nearest features whose median displacement is the reference
@@ -175,6 +180,11 @@ struct FrontendConfig {
       "neighbour-motion test: the bound grows by this fraction of the length of the neighbours' median "
       "displacement (depth differences between neighbours part their image motions in proportion to it); "
       "0 keeps the bound at max_neighbour_disagreement_px");
+    v("neighbour_motion_model", neighbour_motion_model,
+      "neighbour-motion test: translation (the reference is the neighbours' median displacement), "
+      "similarity (each neighbour's displacement is first carried to the feature through the in-plane "
+      "rotation and scale change of the neighbours' pairs, their medians, so a roll or a zoom does not part "
+      "neighbours) or either (dropped only when both references disagree)");
     v("neighbour_check_ms", neighbour_check_ms, "event-time period of the neighbour-motion test");
     v("neighbour_window_ms", neighbour_window_ms,
       "neighbour-motion test: time span of the compared displacements");
