@@ -162,7 +162,7 @@ void frontendBench(benchmark::State& state, const std::string& tracker) {
     config.max_neighbour_disagreement_px = 0;
   }
   if (state.range(2) == 3) config.subpixel_method = "template_fit";  // the continuous sub-pixel fit
-  if (state.range(2) == 4) config.neighbour_motion_model = "either";  // the neighbour test's two references
+  if (state.range(2) == 4) config.neighbour_motion_model = "either";  // the neighbour test with two references
   // Stream 7 is 640x480 with its own camera; the others are 240x180 (ECD calibration).
   const CameraModel camera =
       index == 7 ? simulatedDvxplorer().camera

@@ -221,6 +221,7 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
       neighbour_model_(config.neighbour_motion_model == "similarity" ? NeighbourModel::kSimilarity
                        : config.neighbour_motion_model == "either"   ? NeighbourModel::kEither
                                                                      : NeighbourModel::kTranslation),
+      similarity_min_px_(static_cast<float>(config.neighbour_similarity_min_px)),
       sae_(width_, height_, msToNs(config.refractory_period_ms)),
       detector_(sae_, detectorParams(config)),
       registration_(static_cast<std::size_t>(frame_.gridWidth()) * frame_.gridHeight(), -1),
@@ -654,7 +655,7 @@ bool Frontend::positionAt(const Slot& s, int64_t t_ns, float& x, float& y) const
   return true;
 }
 
-void Frontend::carryToFeature(float xa, float ya, float (*median)(std::vector<float>&)) {
+float Frontend::carryToFeature(float xa, float ya, float (*median)(std::vector<float>&)) {
   // Under an image similarity p -> z p + t (complex z = scale x e^{i angle}) the displacement is
   // d(p) = (z - 1) p + t, so a neighbour n predicts the feature's displacement as
   // d_n + (z - 1)(p_f - p_n), whatever the centre of the rotation. z is the median angle and median log
@@ -674,14 +675,18 @@ void Frontend::carryToFeature(float xa, float ya, float (*median)(std::vector<fl
       pair_angle_.push_back(std::atan2(ux * vy - uy * vx, ux * vx + uy * vy));
       pair_log_scale_.push_back(0.5f * std::log(v2 / u2));
     }
-  if (pair_angle_.size() < 3) return;  // the translation model
+  if (pair_angle_.size() < 3) return 0.f;  // the translation model
   const float angle = median(pair_angle_), scale = std::exp(median(pair_log_scale_));
   const float zr = scale * std::cos(angle) - 1.f, zi = scale * std::sin(angle);  // z - 1
+  float cx = 0.f, cy = 0.f;
   for (std::size_t n = 0; n < m; ++n) {
     const float wx = xa - neighbour_ax_[n], wy = ya - neighbour_ay_[n];
     neighbour_dx_[n] += zr * wx - zi * wy;
     neighbour_dy_[n] += zi * wx + zr * wy;
+    cx += wx;
+    cy += wy;
   }
+  return std::sqrt(zr * zr + zi * zi) * std::hypot(cx, cy) / static_cast<float>(m);
 }
 
 void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
@@ -762,8 +767,10 @@ void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
     bool drop_it = true;
     if (neighbour_model_ != NeighbourModel::kSimilarity) drop_it = disagrees();
     if (drop_it && neighbour_model_ != NeighbourModel::kTranslation) {
-      carryToFeature(xa, ya, median);
-      drop_it = disagrees();
+      const float correction = carryToFeature(xa, ya, median);
+      // either: a similarity that hardly moves the feature relative to its neighbours is noise, and the
+      // translation's verdict stands.
+      drop_it = (neighbour_model_ == NeighbourModel::kEither && correction < similarity_min_px_) || disagrees();
     }
     if (drop_it) neighbour_drops_.push_back(c.slot);
   }

@@ -437,6 +437,12 @@ TEST(Frontend, NeighbourMotionTestParametersAreValidated) {
   FrontendConfig negative_fraction = c;
   negative_fraction.neighbour_disagreement_fraction = -0.5;
   EXPECT_THROW(negative_fraction.validate(), ConfigError);
+  FrontendConfig negative_gate = c;
+  negative_gate.neighbour_similarity_min_px = -1;
+  EXPECT_THROW(negative_gate.validate(), ConfigError);
+  FrontendConfig unknown_model = c;
+  unknown_model.neighbour_motion_model = "affine";
+  EXPECT_THROW(unknown_model.validate(), ConfigError);
 }
 
 }  // namespace

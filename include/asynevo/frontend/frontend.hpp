@@ -282,8 +282,10 @@ class Frontend {
   bool positionAt(const Slot& s, int64_t t_ns, float& x, float& y) const;
   void neighbourCheck(int64_t t_ns, MeasurementSink& sink);
   /// Similarity model of the neighbour-motion test: carries each neighbour's displacement (neighbour_dx_,
-  /// _dy_, positions at t_a in neighbour_ax_, _ay_) to the feature at (xa, ya).
-  void carryToFeature(float xa, float ya, float (*median)(std::vector<float>&));
+  /// _dy_, positions at t_a in neighbour_ax_, _ay_) to the feature at (xa, ya). Returns the length of the
+  /// similarity's correction at the feature relative to the neighbours' mean position (0 when too few
+  /// pairs leave the displacements as they are).
+  float carryToFeature(float xa, float ya, float (*median)(std::vector<float>&));
   /// A new feature at the corner event `e`, whose tracking-frame position is (x, y).
   void trySeed(const Event& e, float x, float y);
   void drop(int slot, DropReason reason, int64_t t_ns, MeasurementSink& sink);
@@ -304,6 +306,7 @@ class Frontend {
   bool fit_subpixel_;  ///< subpixel_method is template_fit
   /// neighbour_motion_model: the reference of the neighbour-motion test
   enum class NeighbourModel { kTranslation, kSimilarity, kEither } neighbour_model_;
+  float similarity_min_px_;  ///< neighbour_similarity_min_px
   std::unique_ptr<HotPixelFilter> hot_pixel_filter_;        ///< null when off
   std::unique_ptr<BackgroundActivityFilter> noise_filter_;  ///< null when off
   std::unique_ptr<EventRateBudget> rate_budget_;           ///< null when off

@@ -84,6 +84,9 @@ struct FrontendConfig {
   /// neighbours share (a roll or a zoom moves points apart in proportion to their distance); "either":
   /// dropped only when both references disagree.
   std::string neighbour_motion_model = "translation";
+  /// With "either": the similarity reference is consulted only when it moves the feature by at least this
+  /// much relative to its neighbours ((z - 1)(p_f - their mean position)); 0 = always.
+  double neighbour_similarity_min_px = 1.0;
   double neighbour_check_ms = 5.0;  ///< event-time period of the neighbour-motion test (all features at once)
   double neighbour_window_ms = 60.0;  ///< time span of the compared displacements (<= 100)
   int neighbour_count = 6;            ///< nearest features whose median displacement is the reference
@@ -185,6 +188,10 @@ struct FrontendConfig {
       "similarity (each neighbour's displacement is first carried to the feature through the in-plane "
       "rotation and scale change of the neighbours' pairs, their medians, so a roll or a zoom does not part "
       "neighbours) or either (dropped only when both references disagree)");
+    v("neighbour_similarity_min_px", neighbour_similarity_min_px,
+      "neighbour-motion test with either: the similarity reference is consulted only when the rotation and "
+      "scale it fits move the feature by at least this much relative to its neighbours' mean position (a "
+      "motion the translation describes keeps the translation's verdict); 0 = always");
     v("neighbour_check_ms", neighbour_check_ms, "event-time period of the neighbour-motion test");
     v("neighbour_window_ms", neighbour_window_ms,
       "neighbour-motion test: time span of the compared displacements");
