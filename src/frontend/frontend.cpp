@@ -195,6 +195,16 @@ int log2Of(int power_of_two) {
   return shift;
 }
 int binnedExtent(int size, int shift) { return (size + (1 << shift) - 1) >> shift; }
+
+/// Median of a non-empty vector (reorders it).
+float median(std::vector<float>& v) {
+  const std::size_t m = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m), v.end());
+  const float upper = v[m];
+  if (v.size() % 2 == 1) return upper;
+  const float lower = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m));
+  return 0.5f * (lower + upper);
+}
 }  // namespace
 
 Frontend::Frontend(const FrontendConfig& config, const CameraModel& camera)
@@ -271,9 +281,9 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
     neighbour_dx_.reserve(slots_.size());
     neighbour_dy_.reserve(slots_.size());
     neighbour_ax_.reserve(slots_.size());
+    neighbour_ay_.reserve(slots_.size());
     median_x_.reserve(slots_.size());
     median_y_.reserve(slots_.size());
-    neighbour_ay_.reserve(slots_.size());
     pair_angle_.reserve(slots_.size() * slots_.size() / 2);
     pair_log_scale_.reserve(slots_.size() * slots_.size() / 2);
     neighbour_drops_.reserve(slots_.size());
@@ -655,7 +665,7 @@ bool Frontend::positionAt(const Slot& s, int64_t t_ns, float& x, float& y) const
   return true;
 }
 
-float Frontend::carryToFeature(float xa, float ya, float (*median)(std::vector<float>&)) {
+float Frontend::carryToFeature(float xa, float ya) {
   // Under an image similarity p -> z p + t (complex z = scale x e^{i angle}) the displacement is
   // d(p) = (z - 1) p + t, so a neighbour n predicts the feature's displacement as
   // d_n + (z - 1)(p_f - p_n), whatever the centre of the rotation. z is the median angle and median log
@@ -714,14 +724,6 @@ void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
   const float radius2 = static_cast<float>(neighbour_radius_px_ * neighbour_radius_px_);
   const float limit = static_cast<float>(config_.max_neighbour_disagreement_px);
   const float fraction = static_cast<float>(config_.neighbour_disagreement_fraction);
-  auto median = +[](std::vector<float>& v) {
-    const std::size_t m = v.size() / 2;
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m), v.end());
-    const float upper = v[m];
-    if (v.size() % 2 == 1) return upper;
-    const float lower = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m));
-    return 0.5f * (lower + upper);
-  };
   neighbour_drops_.clear();
   for (int i = 0; i < n; ++i) {
     const Candidate& c = candidates_[static_cast<std::size_t>(i)];
@@ -767,7 +769,7 @@ void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
     bool drop_it = true;
     if (neighbour_model_ != NeighbourModel::kSimilarity) drop_it = disagrees();
     if (drop_it && neighbour_model_ != NeighbourModel::kTranslation) {
-      const float correction = carryToFeature(xa, ya, median);
+      const float correction = carryToFeature(xa, ya);
       // either: a similarity that hardly moves the feature relative to its neighbours is noise, and the
       // translation's verdict stands.
       drop_it = (neighbour_model_ == NeighbourModel::kEither && correction < similarity_min_px_) || disagrees();

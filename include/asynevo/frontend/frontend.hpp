@@ -285,7 +285,7 @@ class Frontend {
   /// _dy_, positions at t_a in neighbour_ax_, _ay_) to the feature at (xa, ya). Returns the length of the
   /// similarity's correction at the feature relative to the neighbours' mean position (0 when too few
   /// pairs leave the displacements as they are).
-  float carryToFeature(float xa, float ya, float (*median)(std::vector<float>&));
+  float carryToFeature(float xa, float ya);
   /// A new feature at the corner event `e`, whose tracking-frame position is (x, y).
   void trySeed(const Event& e, float x, float y);
   void drop(int slot, DropReason reason, int64_t t_ns, MeasurementSink& sink);
