@@ -232,6 +232,7 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
                        : config.neighbour_motion_model == "either"   ? NeighbourModel::kEither
                                                                      : NeighbourModel::kTranslation),
       similarity_min_px_(static_cast<float>(config.neighbour_similarity_min_px)),
+      similarity_agreement_px_(static_cast<float>(config.neighbour_similarity_agreement_px)),
       sae_(width_, height_, msToNs(config.refractory_period_ms)),
       detector_(sae_, detectorParams(config)),
       registration_(static_cast<std::size_t>(frame_.gridWidth()) * frame_.gridHeight(), -1),
@@ -758,13 +759,23 @@ void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
     if (neighbour_dx_.size() < 3 || !positionAt(s, ta, xa, ya) || !positionAt(s, tb, xb, yb)) continue;
     ++stats_.neighbour_tests;
     // The medians reorder their inputs: each reference is taken from copies of the displacements.
+    float mx = 0.f, my = 0.f;  // the last reference disagrees() computed
     auto disagrees = [&]() {
       median_x_.assign(neighbour_dx_.begin(), neighbour_dx_.end());
       median_y_.assign(neighbour_dy_.begin(), neighbour_dy_.end());
-      const float mx = median(median_x_), my = median(median_y_);
+      mx = median(median_x_);
+      my = median(median_y_);
       const float ex = (xb - xa) - mx, ey = (yb - ya) - my;
       const float bound = limit + fraction * std::sqrt(mx * mx + my * my);
       return ex * ex + ey * ey > bound * bound;
+    };
+    // Whether a neighbour's (carried) displacement lies farther than `bound` from the reference.
+    auto anyNeighbourBeyond = [&](float bound) {
+      for (std::size_t j = 0; j < neighbour_dx_.size(); ++j) {
+        const float ex = neighbour_dx_[j] - mx, ey = neighbour_dy_[j] - my;
+        if (ex * ex + ey * ey > bound * bound) return true;
+      }
+      return false;
     };
     bool drop_it = true;
     if (neighbour_model_ != NeighbourModel::kSimilarity) drop_it = disagrees();
@@ -773,6 +784,10 @@ void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
       // either: a similarity that hardly moves the feature relative to its neighbours is noise, and the
       // translation's verdict stands.
       drop_it = (neighbour_model_ == NeighbourModel::kEither && correction < similarity_min_px_) || disagrees();
+      // either, with an agreement bound: neither does a similarity the neighbours themselves do not follow
+      // (neighbours on two motions, across a depth discontinuity).
+      if (!drop_it && neighbour_model_ == NeighbourModel::kEither && similarity_agreement_px_ > 0.f)
+        drop_it = anyNeighbourBeyond(similarity_agreement_px_);
     }
     if (drop_it) neighbour_drops_.push_back(c.slot);
   }

@@ -24,12 +24,11 @@ std::map<int64_t, std::vector<TrackMeasurement>> byFeature(const std::vector<Tra
   return out;
 }
 
-TEST(Frontend, TracksCornersOfMovingSquaresWithThrottledMeasurements) {
+// Two squares, far apart, moving right and down-left: every track follows its square.
+void expectTracksOfTheMovingSquares(const FrontendConfig& config) {
   const int w = 160, h = 120;
-  // Two squares, far apart, moving right and down-left.
   const std::vector<MovingSquare> squares = {{30, 30, 30, 120, 40}, {100, 60, 28, -60, 50}};
   const auto events = simulateSquares(squares, w, h, 0.3);
-  FrontendConfig config;
   Frontend fe(config, w, h);
   MeasurementCollector out;
   for (const Event& e : events) fe.process(e, out);
@@ -69,6 +68,21 @@ TEST(Frontend, TracksCornersOfMovingSquaresWithThrottledMeasurements) {
     ++matched;
   }
   EXPECT_GE(matched, 2);
+}
+
+TEST(Frontend, TracksCornersOfMovingSquaresWithThrottledMeasurements) {
+  expectTracksOfTheMovingSquares(FrontendConfig{});
+}
+
+// The either reference of the neighbour test (docs/method/frontend_quality.md): a feature's neighbours on
+// both squares fit a large, meaningless similarity that keeps a track 3.1 px off its square; with the
+// agreement bound (2 px) the neighbours, which do not follow that similarity, end it as the translation
+// model does.
+TEST(Frontend, TheEitherNeighbourReferenceWithAgreementKeepsTheSquaresTracksRight) {
+  FrontendConfig config;
+  config.neighbour_motion_model = "either";
+  config.neighbour_similarity_agreement_px = 2.0;
+  expectTracksOfTheMovingSquares(config);
 }
 
 // The peak-rate budget (max_event_rate_mev_s): a stream denser than the budget has detections skipped
@@ -437,6 +451,9 @@ TEST(Frontend, NeighbourMotionTestParametersAreValidated) {
   FrontendConfig negative_fraction = c;
   negative_fraction.neighbour_disagreement_fraction = -0.5;
   EXPECT_THROW(negative_fraction.validate(), ConfigError);
+  FrontendConfig negative_agreement = c;
+  negative_agreement.neighbour_similarity_agreement_px = -1;
+  EXPECT_THROW(negative_agreement.validate(), ConfigError);
   FrontendConfig negative_gate = c;
   negative_gate.neighbour_similarity_min_px = -1;
   EXPECT_THROW(negative_gate.validate(), ConfigError);

@@ -307,6 +307,7 @@ class Frontend {
   /// neighbour_motion_model: the reference of the neighbour-motion test
   enum class NeighbourModel { kTranslation, kSimilarity, kEither } neighbour_model_;
   float similarity_min_px_;  ///< neighbour_similarity_min_px
+  float similarity_agreement_px_;  ///< neighbour_similarity_agreement_px
   std::unique_ptr<HotPixelFilter> hot_pixel_filter_;        ///< null when off
   std::unique_ptr<BackgroundActivityFilter> noise_filter_;  ///< null when off
   std::unique_ptr<EventRateBudget> rate_budget_;           ///< null when off

@@ -78,6 +78,7 @@ void FrontendConfig::validate() const {
   requireRange("frontend.max_neighbour_disagreement_px", max_neighbour_disagreement_px, 0.0, 1000.0);
   requireRange("frontend.neighbour_disagreement_fraction", neighbour_disagreement_fraction, 0.0, 10.0);
   requireRange("frontend.neighbour_similarity_min_px", neighbour_similarity_min_px, 0.0, 1000.0);
+  requireRange("frontend.neighbour_similarity_agreement_px", neighbour_similarity_agreement_px, 0.0, 1000.0);
   requireRange("frontend.neighbour_check_ms", neighbour_check_ms, 0.1, 1e6);
   requireRange("frontend.neighbour_window_ms", neighbour_window_ms, 1.0, 100.0);
   requireRange("frontend.neighbour_count", neighbour_count, 3, 32);

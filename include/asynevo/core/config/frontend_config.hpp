@@ -87,6 +87,9 @@ struct FrontendConfig {
   /// With "either": the similarity reference is consulted only when it moves the feature by at least this
   /// much relative to its neighbours ((z - 1)(p_f - their mean position)); 0 = always.
   double neighbour_similarity_min_px = 1.0;
+  /// With "either": a feature the similarity keeps is still dropped when a neighbour's carried displacement
+  /// lies farther than this from their median (the neighbours do not follow it); 0 = off.
+  double neighbour_similarity_agreement_px = 0.0;
   double neighbour_check_ms = 5.0;  ///< event-time period of the neighbour-motion test (all features at once)
   double neighbour_window_ms = 60.0;  ///< time span of the compared displacements (<= 100)
   int neighbour_count = 6;            ///< nearest features whose median displacement is the reference
@@ -192,6 +195,10 @@ struct FrontendConfig {
       "neighbour-motion test with either: the similarity reference is consulted only when the rotation and "
       "scale it fits move the feature by at least this much relative to its neighbours' mean position (a "
       "motion the translation describes keeps the translation's verdict); 0 = always");
+    v("neighbour_similarity_agreement_px", neighbour_similarity_agreement_px,
+      "neighbour-motion test with either: a feature the similarity reference keeps is still dropped when a "
+      "neighbour's displacement carried to the feature lies farther than this from their median (neighbours "
+      "on two motions, across a depth discontinuity, do not follow one similarity); 0 = off");
     v("neighbour_check_ms", neighbour_check_ms, "event-time period of the neighbour-motion test");
     v("neighbour_window_ms", neighbour_window_ms,
       "neighbour-motion test: time span of the compared displacements");
