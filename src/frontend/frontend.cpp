@@ -285,8 +285,9 @@ Frontend::Frontend(const FrontendConfig& config, int width, int height, Undistor
     neighbour_ay_.reserve(slots_.size());
     median_x_.reserve(slots_.size());
     median_y_.reserve(slots_.size());
-    pair_angle_.reserve(slots_.size() * slots_.size() / 2);
-    pair_log_scale_.reserve(slots_.size() * slots_.size() / 2);
+    const auto pairs = static_cast<std::size_t>(config.neighbour_count * (config.neighbour_count - 1) / 2);
+    pair_angle_.reserve(pairs);
+    pair_log_scale_.reserve(pairs);
     neighbour_drops_.reserve(slots_.size());
   }
 }
@@ -777,17 +778,15 @@ void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
       }
       return false;
     };
-    bool drop_it = true;
-    if (neighbour_model_ != NeighbourModel::kSimilarity) drop_it = disagrees();
+    bool drop_it = neighbour_model_ == NeighbourModel::kSimilarity || disagrees();
     if (drop_it && neighbour_model_ != NeighbourModel::kTranslation) {
       const float correction = carryToFeature(xa, ya);
+      const bool either = neighbour_model_ == NeighbourModel::kEither;
       // either: a similarity that hardly moves the feature relative to its neighbours is noise, and the
-      // translation's verdict stands.
-      drop_it = (neighbour_model_ == NeighbourModel::kEither && correction < similarity_min_px_) || disagrees();
-      // either, with an agreement bound: neither does a similarity the neighbours themselves do not follow
-      // (neighbours on two motions, across a depth discontinuity).
-      if (!drop_it && neighbour_model_ == NeighbourModel::kEither && similarity_agreement_px_ > 0.f)
-        drop_it = anyNeighbourBeyond(similarity_agreement_px_);
+      // translation's verdict stands; with an agreement bound, so does one the neighbours themselves do not
+      // follow (neighbours on two motions, across a depth discontinuity).
+      drop_it = (either && correction < similarity_min_px_) || disagrees() ||
+                (either && similarity_agreement_px_ > 0.f && anyNeighbourBeyond(similarity_agreement_px_));
     }
     if (drop_it) neighbour_drops_.push_back(c.slot);
   }

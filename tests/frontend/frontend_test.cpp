@@ -439,27 +439,18 @@ TEST(Frontend, NeighbourMotionTestParametersAreValidated) {
   FrontendConfig c;
   c.max_neighbour_disagreement_px = 4;
   EXPECT_NO_THROW(Frontend(c, 64, 48));
-  FrontendConfig few = c;
-  few.neighbour_count = 2;  // a median of fewer than 3 is not robust
-  EXPECT_THROW(few.validate(), ConfigError);
-  FrontendConfig long_window = c;
-  long_window.neighbour_window_ms = 500;  // beyond the remembered history
-  EXPECT_THROW(long_window.validate(), ConfigError);
-  FrontendConfig negative = c;
-  negative.max_neighbour_disagreement_px = -1;
-  EXPECT_THROW(negative.validate(), ConfigError);
-  FrontendConfig negative_fraction = c;
-  negative_fraction.neighbour_disagreement_fraction = -0.5;
-  EXPECT_THROW(negative_fraction.validate(), ConfigError);
-  FrontendConfig negative_agreement = c;
-  negative_agreement.neighbour_similarity_agreement_px = -1;
-  EXPECT_THROW(negative_agreement.validate(), ConfigError);
-  FrontendConfig negative_gate = c;
-  negative_gate.neighbour_similarity_min_px = -1;
-  EXPECT_THROW(negative_gate.validate(), ConfigError);
-  FrontendConfig unknown_model = c;
-  unknown_model.neighbour_motion_model = "affine";
-  EXPECT_THROW(unknown_model.validate(), ConfigError);
+  auto expectRejected = [&](auto change) {
+    FrontendConfig bad = c;
+    change(bad);
+    EXPECT_THROW(bad.validate(), ConfigError);
+  };
+  expectRejected([](FrontendConfig& x) { x.neighbour_count = 2; });  // a median of fewer than 3 is not robust
+  expectRejected([](FrontendConfig& x) { x.neighbour_window_ms = 500; });  // beyond the remembered history
+  expectRejected([](FrontendConfig& x) { x.max_neighbour_disagreement_px = -1; });
+  expectRejected([](FrontendConfig& x) { x.neighbour_disagreement_fraction = -0.5; });
+  expectRejected([](FrontendConfig& x) { x.neighbour_similarity_agreement_px = -1; });
+  expectRejected([](FrontendConfig& x) { x.neighbour_similarity_min_px = -1; });
+  expectRejected([](FrontendConfig& x) { x.neighbour_motion_model = "affine"; });
 }
 
 }  // namespace
