@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <utility>
 
 #include "asynevo/core/error.hpp"
 #include "asynevo/core/time.hpp"
@@ -759,34 +760,38 @@ void Frontend::neighbourCheck(int64_t t_ns, MeasurementSink& sink) {
     const Slot& s = slots_[static_cast<std::size_t>(c.slot)];
     if (neighbour_dx_.size() < 3 || !positionAt(s, ta, xa, ya) || !positionAt(s, tb, xb, yb)) continue;
     ++stats_.neighbour_tests;
-    // The medians reorder their inputs: each reference is taken from copies of the displacements.
-    float mx = 0.f, my = 0.f;  // the last reference disagrees() computed
-    auto disagrees = [&]() {
+    // The reference: the component-wise median of the neighbours' (carried) displacements, taken from
+    // copies (the medians reorder their inputs).
+    auto reference = [&]() {
       median_x_.assign(neighbour_dx_.begin(), neighbour_dx_.end());
       median_y_.assign(neighbour_dy_.begin(), neighbour_dy_.end());
-      mx = median(median_x_);
-      my = median(median_y_);
-      const float ex = (xb - xa) - mx, ey = (yb - ya) - my;
-      const float bound = limit + fraction * std::sqrt(mx * mx + my * my);
+      return std::pair<float, float>(median(median_x_), median(median_y_));
+    };
+    auto disagrees = [&](const std::pair<float, float>& m) {
+      const float ex = (xb - xa) - m.first, ey = (yb - ya) - m.second;
+      const float bound = limit + fraction * std::sqrt(m.first * m.first + m.second * m.second);
       return ex * ex + ey * ey > bound * bound;
     };
-    // Whether a neighbour's (carried) displacement lies farther than `bound` from the reference.
-    auto anyNeighbourBeyond = [&](float bound) {
+    // Whether a neighbour's (carried) displacement lies farther than `bound` from the reference m.
+    auto anyNeighbourBeyond = [&](const std::pair<float, float>& m, float bound) {
       for (std::size_t j = 0; j < neighbour_dx_.size(); ++j) {
-        const float ex = neighbour_dx_[j] - mx, ey = neighbour_dy_[j] - my;
+        const float ex = neighbour_dx_[j] - m.first, ey = neighbour_dy_[j] - m.second;
         if (ex * ex + ey * ey > bound * bound) return true;
       }
       return false;
     };
-    bool drop_it = neighbour_model_ == NeighbourModel::kSimilarity || disagrees();
+    bool drop_it = neighbour_model_ == NeighbourModel::kSimilarity || disagrees(reference());
     if (drop_it && neighbour_model_ != NeighbourModel::kTranslation) {
       const float correction = carryToFeature(xa, ya);
       const bool either = neighbour_model_ == NeighbourModel::kEither;
       // either: a similarity that hardly moves the feature relative to its neighbours is noise, and the
-      // translation's verdict stands; with an agreement bound, so does one the neighbours themselves do not
-      // follow (neighbours on two motions, across a depth discontinuity).
-      drop_it = (either && correction < similarity_min_px_) || disagrees() ||
-                (either && similarity_agreement_px_ > 0.f && anyNeighbourBeyond(similarity_agreement_px_));
+      // translation's verdict (drop) stands; with an agreement bound, so does one the neighbours themselves
+      // do not follow (neighbours on two motions, across a depth discontinuity).
+      if (!either || correction >= similarity_min_px_) {
+        const std::pair<float, float> carried = reference();
+        drop_it = disagrees(carried) ||
+                  (either && similarity_agreement_px_ > 0.f && anyNeighbourBeyond(carried, similarity_agreement_px_));
+      }
     }
     if (drop_it) neighbour_drops_.push_back(c.slot);
   }
