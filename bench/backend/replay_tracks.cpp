@@ -34,7 +34,8 @@
 // backend_feed.txt after as many tracks.txt lines as the backend had taken before it, and normalized
 // coordinates come from the frontend's undistortion table: without --oracle or --drop-edges the replay
 // reproduces the run's trajectory byte for byte (tests/bench/replay_reproduces_run.sh). The feature ends are
-// not replayed: the window estimator does not use them. A run folder without backend_feed.txt (older runs)
+// not replayed: the window estimator's output does not depend on them (it uses them only to forget
+// what it kept about a feature that sends nothing more). A run folder without backend_feed.txt (older runs)
 // gets a marker at every 1 ms up to each measurement's time, which misses the frontend's emission lag (a
 // tracker's first state is recorded once its window has filled): on the demo its initialization then
 // starts at 0.61 s instead of 1.16 s.
@@ -385,6 +386,9 @@ int main(int argc, char** argv) try {
       stats.observations_marginalized, stats.observations_dropped_forced,
       stats.observations_dropped_untriangulated, stats.scale_anchors, stats.landmarks_depth_rejected,
       stats.landmarks_depth_reset);
+  if (stats.landmarks_rejoined || stats.rejoins_ambiguous)
+    fmt::print("landmark rejoins {} ({} ambiguous tests, {} measurements of superseded features ignored)\n",
+               stats.landmarks_rejoined, stats.rejoins_ambiguous, stats.measurements_of_superseded_features);
   const auto& tf = stats.triangulation_failures;  // by backend::TriangulationFailure
   fmt::print("triangulation failures: too few views {}, low parallax {}, degenerate {}, behind camera {}, high "
              "error {}\n",

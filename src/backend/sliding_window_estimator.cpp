@@ -22,6 +22,7 @@
 #include "asynevo/backend/factors/wnoa_prior_factor.hpp"
 #include "asynevo/backend/direction_audit.hpp"
 #include "asynevo/backend/initializer.hpp"
+#include "asynevo/backend/landmark_rejoin.hpp"
 #include "asynevo/backend/multiview_initializer.hpp"
 #include "asynevo/backend/start_trajectory.hpp"
 #include "asynevo/backend/marginalization.hpp"
@@ -79,6 +80,10 @@ void SlidingWindowEstimator::addMeasurement(const TrackMeasurement& m) {
     ++stats_.measurements_before_reset;
     return;
   }
+  if (superseded_features_.count(m.feature_id)) {
+    ++stats_.measurements_of_superseded_features;
+    return;
+  }
   const auto alias = split_aliases_.find(m.feature_id);
   const int64_t key = alias == split_aliases_.end() ? m.feature_id : alias->second;
   if (rejected_features_.count(key)) {
@@ -99,7 +104,9 @@ void SlidingWindowEstimator::addMeasurement(const TrackMeasurement& m) {
     ++stats_.measurements_subsampled;
     return;
   }
-  track.observations.push_back({m.t_ns, Eigen::Vector2d(m.xn, m.yn)});
+  Eigen::Vector2d xn(m.xn, m.yn);
+  if (const auto offset = rejoin_offsets_.find(m.feature_id); offset != rejoin_offsets_.end()) xn -= offset->second;
+  track.observations.push_back({m.t_ns, xn});
   if (first_measurement_ns_ < 0) first_measurement_ns_ = m.t_ns;
 }
 
@@ -109,11 +116,16 @@ void SlidingWindowEstimator::endFeature(int64_t feature_id) {
   // An ended feature sends no more measurements: what was kept to route or ignore them is forgotten,
   // so these sets stay as small as the active features over a run of any length.
   const auto alias = split_aliases_.find(feature_id);
+  const int64_t key = alias == split_aliases_.end() ? feature_id : alias->second;
   if (alias != split_aliases_.end()) {
     rejected_features_.erase(alias->second);
     split_aliases_.erase(alias);
   }
   rejected_features_.erase(feature_id);
+  superseded_features_.erase(feature_id);
+  rejoin_offsets_.erase(feature_id);
+  const auto track = tracks_.find(key);
+  if (track != tracks_.end()) track->second.feature_ended = true;
 }
 
 void SlidingWindowEstimator::advanceTo(int64_t t_ns) {
@@ -608,6 +620,11 @@ void SlidingWindowEstimator::triangulateTracks() {
   // predicted at constant velocity (TriangulationViews).
   const TriangulationViews rule = tracking_ && solved_until_ns_ >= 0 ? triangulation_views_ : TriangulationViews::kAll;
   const std::size_t min_views = static_cast<std::size_t>(c.min_track_measurements);
+  RejoinOptions rejoin;
+  rejoin.max_error = tracking_ ? normalizedThreshold(c.landmark_rejoin_px) : 0.0;
+  rejoin.min_depth = c.min_depth;
+  std::vector<std::pair<int64_t, int64_t>> rejoins;  // (new trajectory, landmark it extends)
+  std::set<int64_t> rejoined;                        // landmarks claimed in this pass
   for (auto& [id, track] : tracks_) {
     if (track.triangulated) continue;
     std::vector<TriangulationView> views;
@@ -623,6 +640,14 @@ void SlidingWindowEstimator::triangulateTracks() {
     if (usable < min_views) continue;
     if (usable == track.observations_at_last_attempt) continue;
     track.observations_at_last_attempt = usable;
+    if (rejoin.max_error > 0) {
+      const RejoinMatch match = findRejoinLandmark(views, track.firstTime(), tracks_, rejoin);
+      if (match.candidates_fitting > 1) ++stats_.rejoins_ambiguous;
+      if (match.key && rejoined.insert(*match.key).second) {
+        rejoins.emplace_back(id, *match.key);
+        continue;
+      }
+    }
     const TriangulationResult result = triangulateTrajectory(views, solved, rule, min_views, tri);
     if (!result.p_w) {
       ++stats_.triangulation_failures[static_cast<std::size_t>(result.failure)];
@@ -634,6 +659,53 @@ void SlidingWindowEstimator::triangulateTracks() {
     }
     makeLandmark(track, *result.p_w);
   }
+  for (const auto& [from, to] : rejoins) rejoinLandmark(from, to);
+}
+
+void SlidingWindowEstimator::rejoinLandmark(int64_t from, int64_t to) {
+  FeatureTrack& source = tracks_.at(from);
+  FeatureTrack& landmark = tracks_.at(to);
+  // The new tracker may sit on the corner a pixel or two from where the old one sat: its mean offset
+  // from the landmark's projection is removed from its measurements, now and later.
+  const Eigen::Vector3d p_w = Eigen::Map<const Eigen::Vector3d>(landmark.p_w.data());
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();
+  int views = 0;
+  for (const Observation& o : source.observations) {
+    if (!trajectory_.covers(o.t_ns)) continue;
+    const Eigen::Vector3d p_c = trajectory_.pose(o.t_ns).inverse() * p_w;
+    offset += o.xn - p_c.head<2>() / p_c.z();
+    ++views;
+  }
+  if (views > 0) offset /= views;
+  for (Observation& o : source.observations) o.xn -= offset;
+  for (int64_t feature : featuresFeeding(from)) {
+    const auto [entry, inserted] = rejoin_offsets_.emplace(feature, offset);
+    if (!inserted) entry->second += offset;
+  }
+  // findRejoinLandmark took only landmarks measured last before the new trajectory's first measurement.
+  landmark.observations.insert(landmark.observations.end(), source.observations.begin(), source.observations.end());
+  // A feature that still fed the landmark (quiet, not ended) would now interleave with the new one: its
+  // later measurements are ignored. One that has ended sends none.
+  if (!landmark.feature_ended) {
+    for (int64_t feature : featuresFeeding(to)) {
+      split_aliases_.erase(feature);
+      superseded_features_.insert(feature);
+    }
+  }
+  // The new trajectory's feature now extends the landmark.
+  for (int64_t feature : featuresFeeding(from)) split_aliases_[feature] = to;
+  landmark.feature_ended = source.feature_ended;
+  tracks_.erase(from);
+  ++stats_.landmarks_rejoined;
+}
+
+std::vector<int64_t> SlidingWindowEstimator::featuresFeeding(int64_t key) const {
+  std::vector<int64_t> features;
+  for (const auto& [feature, alias] : split_aliases_) {
+    if (alias == key) features.push_back(feature);
+  }
+  if (key < kFirstSplitId && !split_aliases_.count(key)) features.push_back(key);
+  return features;
 }
 
 TriangulationOptions SlidingWindowEstimator::triangulationOptions() const {
@@ -1061,13 +1133,9 @@ void SlidingWindowEstimator::splitDriftedTail(FeatureTrack& track,
   norms.resize(norms.size() - run);
   // The frontend feature's later measurements extend the new trajectory. A track split before is
   // found by its alias; without one its feature has ended, and nothing more will come.
-  if (track.id < kFirstSplitId) {
-    split_aliases_[track.id] = key;
-  } else {
-    for (auto& [feature, alias] : split_aliases_) {
-      if (alias == track.id) alias = key;
-    }
-  }
+  for (int64_t feature : featuresFeeding(track.id)) split_aliases_[feature] = key;
+  tail.feature_ended = track.feature_ended;
+  track.feature_ended = true;
   ++stats_.tracks_split;
 }
 

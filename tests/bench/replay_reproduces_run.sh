@@ -3,9 +3,11 @@
 # exactly: the same final knots and velocities, byte for byte (docs/backend.md, "Where the error comes
 # from"). A run that never initialized would compare two empty trajectories: checked first. Then
 # --skip-ms: the first 400 ms of tracks skipped, the replay starts later and skips measurements.
-#   replay_reproduces_run.sh ASYNEVO BENCH_REPLAY_TRACKS CONFIG WORK_DIR
+# REPLAY_LOG_PATTERN (optional): an extended regular expression the replay's report must match (that a
+# configuration's feature was at work in the run compared).
+#   replay_reproduces_run.sh ASYNEVO BENCH_REPLAY_TRACKS CONFIG WORK_DIR [REPLAY_LOG_PATTERN]
 set -eu
-asynevo=$1; replay=$2; config=$3; work=$4
+asynevo=$1; replay=$2; config=$3; work=$4; pattern=${5:-}
 rm -rf "$work"
 mkdir -p "$work"
 "$asynevo" simulate --scene boxes --motion 6dof --seed 1 --duration 2.5 --out "$work/sequence" > "$work/simulate.log"
@@ -27,6 +29,11 @@ grep -v '^#' "$work/run/velocities.txt" > "$work/run_vel.txt"
 grep -v '^#' "$work/replay.txt.velocities.txt" > "$work/replay_vel.txt"
 cmp "$work/run_vel.txt" "$work/replay_vel.txt"
 echo "replay reproduces the run: $knots knots identical"
+if [ -n "$pattern" ] && ! grep -Eq "$pattern" "$work/replay.log"; then
+  echo "FAIL: the replay's report does not match '$pattern':" >&2
+  cat "$work/replay.log" >&2
+  exit 1
+fi
 "$replay" "$work/run" "$work/sequence" "$work/skip.txt" --skip-ms 400 > "$work/skip.log"
 first_run=$(head -n 1 "$work/run_traj.txt" | cut -d' ' -f1)
 first_measurement=$(grep -v '^#' "$work/run/tracks.txt" | head -n 1 | cut -d' ' -f2)

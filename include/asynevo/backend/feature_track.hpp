@@ -31,6 +31,8 @@ struct FeatureTrack {
   std::vector<Observation> observations;  ///< time-ordered
   std::vector<FixedView> fixed_views;     ///< older measurements, from poses no longer in the window
   bool triangulated = false;
+  /// No frontend feature extends it any more (its feature ended, or its tail was split off).
+  bool feature_ended = false;
   std::array<double, 3> p_w{};            ///< landmark, valid when triangulated
   std::size_t observations_at_last_attempt = 0;
 

@@ -121,6 +121,11 @@ class SlidingWindowEstimator : public Estimator {
   InitResult findInitialMotion(int64_t earliest_ns, int64_t t_b_ns, const BackendConfig& config,
                                bool relaxed_counts) const;
   void triangulateTracks();
+  /// landmark_rejoin_px: the trajectory `from` extends the landmark `to` (its measurements and its live
+  /// feature's later ones).
+  void rejoinLandmark(int64_t from, int64_t to);
+  /// The frontend features whose measurements extend the trajectory `key` (by an alias, or by its own id).
+  std::vector<int64_t> featuresFeeding(int64_t key) const;
   /// The triangulation checks of the configuration (parallax, reprojection error, depth).
   TriangulationOptions triangulationOptions() const;
   /// `track` becomes a landmark at `p_w` (counted in stats).
@@ -195,6 +200,11 @@ class SlidingWindowEstimator : public Estimator {
   int64_t next_split_id_ = kFirstSplitId;
   /// trajectories rejected by the RMS test whose feature has not ended: later measurements ignored
   std::set<int64_t> rejected_features_;
+  /// Features whose landmark a new trajectory extended while they had not ended (landmark_rejoin_px):
+  /// later measurements ignored, forgotten when the feature ends.
+  std::set<int64_t> superseded_features_;
+  /// Features that extend a rejoined landmark: the offset removed from their measurements (normalized).
+  std::map<int64_t, Eigen::Vector2d> rejoin_offsets_;
   std::optional<FactorEntry> prior_;          ///< marginalization prior (knots, active landmarks)
   /// Gauge and scale anchors from initialization (a state prior on the first knot, a distance between
   /// two knots); each leaves for the marginalization prior with the first of its knots.

@@ -28,6 +28,10 @@ struct BackendConfig {
   /// later ones become a new trajectory, triangulated on its own. 0 disables.
   double track_split_px = 0.0;
   int track_split_min_measurements = 3;  ///< trailing measurements beyond track_split_px that split a track
+  /// Landmark rejoin: a new trajectory whose every view lies within this of the projection of one
+  /// window landmark no longer measured (and of no other) extends that landmark instead of being
+  /// triangulated on its own (backend/landmark_rejoin.hpp). 0 disables.
+  double landmark_rejoin_px = 0.0;
 
   // --- triangulation of new trajectories ---
   int min_track_measurements = 5;      ///< measurements needed before a trajectory is triangulated
@@ -199,6 +203,9 @@ struct BackendConfig {
       "start a new trajectory [px] (0 = off)");
     v("track_split_min_measurements", track_split_min_measurements,
       "track splitting: trailing measurements beyond track_split_px needed to split");
+    v("landmark_rejoin_px", landmark_rejoin_px,
+      "a new trajectory whose views all lie within this of the projection of one landmark no longer measured "
+      "extends that landmark instead of being triangulated [px] (0 = off)");
     v("min_track_measurements", min_track_measurements, "measurements before a trajectory is triangulated");
     v("min_parallax_deg", min_parallax_deg, "minimum ray angle to triangulate a trajectory [deg]");
     v("max_triangulation_px", max_triangulation_px, "maximum reprojection error of a new landmark [px]");
