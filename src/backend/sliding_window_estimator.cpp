@@ -1131,8 +1131,8 @@ void SlidingWindowEstimator::splitDriftedTail(FeatureTrack& track,
   tail.observations.assign(track.observations.begin() + static_cast<std::ptrdiff_t>(first), track.observations.end());
   track.observations.erase(track.observations.begin() + static_cast<std::ptrdiff_t>(first), track.observations.end());
   norms.resize(norms.size() - run);
-  // The frontend feature's later measurements extend the new trajectory. A track split before is
-  // found by its alias; without one its feature has ended, and nothing more will come.
+  // The features that fed the trajectory (by an alias, or by its own id) extend the new one from now
+  // on; the older part is fed no more.
   for (int64_t feature : featuresFeeding(track.id)) split_aliases_[feature] = key;
   tail.feature_ended = track.feature_ended;
   track.feature_ended = true;
