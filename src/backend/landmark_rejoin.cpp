@@ -24,6 +24,7 @@ RejoinMatch findRejoinLandmark(const std::vector<TriangulationView>& views, int6
   for (const auto& [key, track] : tracks) {
     if (!track.triangulated || track.observations.empty() || track.lastTime() >= first_ns)
       continue;
+    if (first_ns - track.lastTime() > options.max_gap_ns) continue;
     if (!fitsEveryView(Eigen::Map<const Eigen::Vector3d>(track.p_w.data()), views, options)) continue;
     ++match.candidates_fitting;
     match.key = key;

@@ -623,6 +623,7 @@ void SlidingWindowEstimator::triangulateTracks() {
   RejoinOptions rejoin;
   rejoin.max_error = tracking_ ? normalizedThreshold(c.landmark_rejoin_px) : 0.0;
   rejoin.min_depth = c.min_depth;
+  rejoin.max_gap_ns = std::llround(c.landmark_rejoin_max_gap_ms * 1e6);
   std::vector<std::pair<int64_t, int64_t>> rejoins;  // (new trajectory, landmark it extends)
   std::set<int64_t> rejoined;                        // landmarks claimed in this pass
   for (auto& [id, track] : tracks_) {

@@ -67,6 +67,17 @@ TEST(LandmarkRejoin, NoneWhenAViewMissesByMoreThanTheBound) {
   EXPECT_TRUE(findRejoinLandmark(views, kFirstNs, tracks, options(3)).key);
 }
 
+TEST(LandmarkRejoin, SkipsLandmarksLastMeasuredLongerAgoThanTheGap) {
+  const Eigen::Vector3d p(0.3, -0.1, 2.0);
+  TrackMap tracks;
+  tracks[7] = landmarkAt(7, p, kFirstNs - 60'000'000);  // last measured 60 ms before
+  RejoinOptions o = options(2);
+  o.max_gap_ns = 50'000'000;
+  EXPECT_FALSE(findRejoinLandmark(viewsOf(p, {0, 0}), kFirstNs, tracks, o).key);
+  o.max_gap_ns = 60'000'000;
+  EXPECT_TRUE(findRejoinLandmark(viewsOf(p, {0, 0}), kFirstNs, tracks, o).key);
+}
+
 TEST(LandmarkRejoin, NoneWhenTwoLandmarksFit) {
   const Eigen::Vector3d p(0.3, -0.1, 2.0);
   TrackMap tracks;

@@ -47,10 +47,11 @@ void addJumpingFeatures(const SyntheticScene& scene, std::vector<TrackMeasuremen
 EstimatorOptions splitOptions(double split_px) {
   EstimatorOptions options = testing::syntheticSceneOptions();
   options.config.track_split_px = split_px;
-  // The whole-track RMS test and the depth gate would catch some of these trajectories too; this test
-  // is about splitting.
+  // The whole-track RMS test and the depth gate would catch some of these trajectories too, and landmark
+  // rejoins route features through the same aliases; this test is about splitting.
   options.config.track_outlier_rms_px = 0;
   options.config.landmark_depth_range = 0;
+  options.config.landmark_rejoin_px = 0;
   return options;
 }
 

@@ -8,6 +8,7 @@
 // remedy for short tracks in keyframe VO (ORB-SLAM's "search by projection", Mur-Artal et al., 2015).
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -19,6 +20,9 @@ namespace asynevo::backend {
 struct RejoinOptions {
   double max_error = 0;    ///< largest reprojection error over the views, normalized units
   double min_depth = 0.05; ///< smallest depth in any view
+  /// Longest time from a landmark's last measurement to the new trajectory's first [ns]: a corner seen
+  /// again soon is the same point; after longer, a junction of edges at different depths may not be.
+  int64_t max_gap_ns = std::numeric_limits<int64_t>::max();
 };
 
 struct RejoinMatch {
@@ -28,7 +32,7 @@ struct RejoinMatch {
 
 /// The landmark a new trajectory rejoins: among `tracks`, the triangulated ones measured last before
 /// `first_ns` (the new trajectory's first measurement; a landmark still measured since is another
-/// point, the frontend keeps its features apart), the one that
+/// point, the frontend keeps its features apart) and at most `max_gap_ns` before it, the one that
 /// projects within `max_error` of every view and in front of every camera. None when no candidate, or
 /// more than one, fits.
 RejoinMatch findRejoinLandmark(const std::vector<TriangulationView>& views, int64_t first_ns, const TrackMap& tracks,

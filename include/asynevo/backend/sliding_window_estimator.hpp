@@ -64,8 +64,8 @@ class SlidingWindowEstimator : public Estimator {
   const TrackMap& tracks() const { return tracks_; }
   /// Feature ids whose trajectories the RMS test rejected (track_outlier_rms_px) and that have not ended.
   const std::set<int64_t>& rejectedFeatures() const { return rejected_features_; }
-  /// Feature ids whose later measurements extend a trajectory split off by track_split_px, with its id
-  /// (until the frontend ends the feature).
+  /// Feature ids whose later measurements extend another trajectory, with its id: one split off by
+  /// track_split_px, or a landmark the feature's trajectory rejoined (until the frontend ends the feature).
   const std::map<int64_t, int64_t>& splitFeatures() const { return split_aliases_; }
 
  protected:

@@ -97,6 +97,7 @@ void BackendConfig::validate() const {
   requireRange("backend.track_split_px", track_split_px, 0.0, 1e6);
   requireRange("backend.track_split_min_measurements", track_split_min_measurements, 1, 100000);
   requireRange("backend.landmark_rejoin_px", landmark_rejoin_px, 0.0, 1e6);
+  requireRange("backend.landmark_rejoin_max_gap_ms", landmark_rejoin_max_gap_ms, 0.0, 1e6);
   requireRange("backend.min_track_measurements", min_track_measurements, 2, 100000);
   requireRange("backend.min_parallax_deg", min_parallax_deg, 0.0, 90.0);
   requireRange("backend.max_triangulation_px", max_triangulation_px, 1e-3, 1e6);

@@ -32,6 +32,8 @@ struct BackendConfig {
   /// window landmark no longer measured (and of no other) extends that landmark instead of being
   /// triangulated on its own (backend/landmark_rejoin.hpp). 0 disables.
   double landmark_rejoin_px = 0.0;
+  /// Landmark rejoin: the longest time from the landmark's last measurement to the new trajectory's first.
+  double landmark_rejoin_max_gap_ms = 50.0;
 
   // --- triangulation of new trajectories ---
   int min_track_measurements = 5;      ///< measurements needed before a trajectory is triangulated
@@ -206,6 +208,9 @@ struct BackendConfig {
     v("landmark_rejoin_px", landmark_rejoin_px,
       "a new trajectory whose views all lie within this of the projection of one landmark no longer measured "
       "extends that landmark instead of being triangulated [px] (0 = off)");
+    v("landmark_rejoin_max_gap_ms", landmark_rejoin_max_gap_ms,
+      "landmark rejoin: longest time from the landmark's last measurement to the new trajectory's first "
+      "[ms]");
     v("min_track_measurements", min_track_measurements, "measurements before a trajectory is triangulated");
     v("min_parallax_deg", min_parallax_deg, "minimum ray angle to triangulate a trajectory [deg]");
     v("max_triangulation_px", max_triangulation_px, "maximum reprojection error of a new landmark [px]");
