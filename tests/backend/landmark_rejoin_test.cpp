@@ -1,4 +1,4 @@
-// Landmark rejoin (backend.landmark_rejoin_px): which ended landmark a new trajectory extends
+// Landmark rejoin (backend.landmark_rejoin_px): which landmark no longer measured a new trajectory extends
 // (findRejoinLandmark), and the estimator doing it on re-detected corners.
 
 #include <gtest/gtest.h>

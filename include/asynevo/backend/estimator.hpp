@@ -107,8 +107,9 @@ struct EstimatorStats {
   uint64_t landmarks_lost = 0;  ///< fewer than two observations left after outlier removal
   uint64_t tracks_rejected = 0;  ///< whole trajectories rejected by the RMS test (track_outlier_rms_px)
   uint64_t tracks_split = 0;  ///< trajectories whose newest measurements started a new one (track_split_px)
-  uint64_t landmarks_rejoined = 0;  ///< new trajectories that extended an ended landmark (landmark_rejoin_px)
-  uint64_t rejoins_ambiguous = 0;   ///< rejoin tests where more than one ended landmark fitted (none taken)
+  /// new trajectories that extended a landmark no longer measured (landmark_rejoin_px)
+  uint64_t landmarks_rejoined = 0;
+  uint64_t rejoins_ambiguous = 0;   ///< rejoin tests where more than one landmark fitted (none taken)
   uint64_t measurements_of_superseded_features = 0;  ///< of features a rejoin took the landmark from, ignored
   uint64_t measurements_of_rejected_tracks = 0;  ///< later measurements of rejected trajectories, ignored
   uint64_t landmarks_depth_rejected = 0;         ///< triangulations outside landmark_depth_range, not created
