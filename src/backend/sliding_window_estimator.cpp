@@ -624,7 +624,11 @@ void SlidingWindowEstimator::triangulateTracks() {
   rejoin.max_error = tracking_ ? normalizedThreshold(c.landmark_rejoin_px) : 0.0;
   rejoin.min_depth = c.min_depth;
   rejoin.max_gap_ns = std::llround(c.landmark_rejoin_max_gap_ms * 1e6);
-  std::vector<std::pair<int64_t, int64_t>> rejoins;  // (new trajectory, landmark it extends)
+  struct Rejoin {
+    int64_t from, to;        // the new trajectory, the landmark it extends
+    Eigen::Vector2d offset;  // its measurements' mean offset from the landmark's projection
+  };
+  std::vector<Rejoin> rejoins;
   std::set<int64_t> rejoined;                        // landmarks claimed in this pass
   for (auto& [id, track] : tracks_) {
     if (track.triangulated) continue;
@@ -645,7 +649,7 @@ void SlidingWindowEstimator::triangulateTracks() {
       const RejoinMatch match = findRejoinLandmark(views, track.firstTime(), tracks_, rejoin);
       if (match.candidates_fitting > 1) ++stats_.rejoins_ambiguous;
       if (match.key && rejoined.insert(*match.key).second) {
-        rejoins.emplace_back(id, *match.key);
+        rejoins.push_back({id, *match.key, match.offset});
         continue;
       }
     }
@@ -660,24 +664,14 @@ void SlidingWindowEstimator::triangulateTracks() {
     }
     makeLandmark(track, *result.p_w);
   }
-  for (const auto& [from, to] : rejoins) rejoinLandmark(from, to);
+  for (const Rejoin& r : rejoins) rejoinLandmark(r.from, r.to, r.offset);
 }
 
-void SlidingWindowEstimator::rejoinLandmark(int64_t from, int64_t to) {
+void SlidingWindowEstimator::rejoinLandmark(int64_t from, int64_t to, const Eigen::Vector2d& offset) {
   FeatureTrack& source = tracks_.at(from);
   FeatureTrack& landmark = tracks_.at(to);
   // The new tracker may sit on the corner a pixel or two from where the old one sat: its mean offset
   // from the landmark's projection is removed from its measurements, now and later.
-  const Eigen::Vector3d p_w = Eigen::Map<const Eigen::Vector3d>(landmark.p_w.data());
-  Eigen::Vector2d offset = Eigen::Vector2d::Zero();
-  int views = 0;
-  for (const Observation& o : source.observations) {
-    if (!trajectory_.covers(o.t_ns)) continue;
-    const Eigen::Vector3d p_c = trajectory_.pose(o.t_ns).inverse() * p_w;
-    offset += o.xn - p_c.head<2>() / p_c.z();
-    ++views;
-  }
-  if (views > 0) offset /= views;
   for (Observation& o : source.observations) o.xn -= offset;
   for (int64_t feature : featuresFeeding(from)) {
     const auto [entry, inserted] = rejoin_offsets_.emplace(feature, offset);

@@ -28,6 +28,9 @@ struct RejoinOptions {
 struct RejoinMatch {
   std::optional<int64_t> key;  ///< the landmark's trajectory key when exactly one candidate fits
   int candidates_fitting = 0;  ///< how many candidates passed the test (2 or more: ambiguous, none taken)
+  /// With a key: the views' mean offset from the landmark's projection (normalized), which the new
+  /// tracker's measurements carry (it sits on the corner a pixel or so from where the old one sat).
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();
 };
 
 /// The landmark a new trajectory rejoins: among `tracks`, the triangulated ones measured last before

@@ -122,8 +122,8 @@ class SlidingWindowEstimator : public Estimator {
                                bool relaxed_counts) const;
   void triangulateTracks();
   /// landmark_rejoin_px: the trajectory `from` extends the landmark `to` (its measurements and its live
-  /// feature's later ones).
-  void rejoinLandmark(int64_t from, int64_t to);
+  /// feature's later ones), `offset` (normalized) removed from them.
+  void rejoinLandmark(int64_t from, int64_t to, const Eigen::Vector2d& offset);
   /// The frontend features whose measurements extend the trajectory `key` (by an alias, or by its own id).
   std::vector<int64_t> featuresFeeding(int64_t key) const;
   /// The triangulation checks of the configuration (parallax, reprojection error, depth).
